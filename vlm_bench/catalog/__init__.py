@@ -1,0 +1,1 @@
+"""Loads and validates the shipped data files (world, tasks, skills, materialised GT)."""

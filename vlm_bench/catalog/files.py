@@ -1,0 +1,41 @@
+"""Read JSON data files into pydantic models, turning any failure into a one-line error."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import TypeVar
+
+from pydantic import BaseModel, ValidationError
+
+from vlm_bench.errors import DataFileError
+
+M = TypeVar("M", bound=BaseModel)
+
+
+def _location(loc: tuple[int | str, ...]) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out or "(root)"
+
+
+def read_json(path: Path) -> object:
+    """Parse a JSON file; raises :class:`DataFileError` naming the file on failure."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise DataFileError(str(path), f"cannot read: {exc.strerror}") from None
+    except json.JSONDecodeError as exc:
+        raise DataFileError(str(path), f"invalid JSON at line {exc.lineno}: {exc.msg}") from None
+
+
+def load_model(path: Path, model: type[M]) -> M:
+    """Validate a JSON file against ``model``; the error names the file and the first bad field."""
+    data = read_json(path)
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
+        raise DataFileError(str(path), f"{_location(err['loc'])}: {err['msg']}{more}") from None

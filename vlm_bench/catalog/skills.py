@@ -1,0 +1,35 @@
+"""The skill library (``skills/*.json``)."""
+
+from __future__ import annotations
+
+from functools import cache
+
+from vlm_bench.catalog.files import load_model
+from vlm_bench.errors import DataFileError, UnknownNameError
+from vlm_bench.resources import skills_dir
+from vlm_bench.types.skill import SkillSpec
+
+
+@cache
+def skills() -> dict[str, SkillSpec]:
+    """All skills by canonical name, in file-name order (cached)."""
+    out: dict[str, SkillSpec] = {}
+    for path in sorted(skills_dir().glob("*.json")):
+        spec = load_model(path, SkillSpec)
+        if spec.name != path.stem:
+            raise DataFileError(str(path), f"name: {spec.name!r} differs from the file name")
+        out[spec.name] = spec
+    return out
+
+
+def skill(name: str) -> SkillSpec:
+    """One skill by canonical name; raises listing the valid skills."""
+    table = skills()
+    if name not in table:
+        raise UnknownNameError("skill", name, table)
+    return table[name]
+
+
+def arm_skill_names() -> list[str]:
+    """Canonical names of the ARM skills."""
+    return [s.name for s in skills().values() if s.agent == "ARM"]

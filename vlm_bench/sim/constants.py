@@ -1,0 +1,56 @@
+"""Every MJCF name the simulator, executor and tests refer to, in one place."""
+
+from __future__ import annotations
+
+# Timing (SPEC §7): physics at 500 Hz, control at 20 Hz.
+PHYSICS_DT = 0.002
+CONTROL_DT = 0.05
+STEPS_PER_CONTROL = round(CONTROL_DT / PHYSICS_DT)
+
+# UAV.
+UAV_BODY = "uav"
+UAV_FREEJOINT = "uav_free"
+UAV_SITE = "uav_center"
+ROTOR_GEOM_PREFIX = "uav_rotor"
+
+# Panda arm (mounted under the UAV, base pointing down).
+ARM_PREFIX = "panda_"
+ARM_BASE_BODY = "panda_link0"
+ARM_LINKS = tuple(f"panda_link{i}" for i in range(8))
+HAND_BODY = "panda_hand"
+LEFT_FINGER_BODY = "panda_left_finger"
+RIGHT_FINGER_BODY = "panda_right_finger"
+ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
+FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
+ARM_ACTUATORS = tuple(f"panda_actuator{i}" for i in range(1, 8))
+GRIPPER_ACTUATOR = "panda_gripper"
+TCP_SITE = "panda_tcp"
+GRIPPER_OPEN = 0.04  # finger joint position (m) per finger when fully open
+ARM_HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)  # Panda "ready" pose (rad)
+
+# Cameras (stable names, SPEC §2).
+CAM_UAV = "uav"
+CAM_WRIST = "wrist"
+CAM_OVERHEAD = "overhead"
+CAM_SIDE = "side"
+CAMERAS = (CAM_UAV, CAM_WRIST, CAM_OVERHEAD, CAM_SIDE)
+THIRD_PERSON_CAMERAS = (CAM_OVERHEAD, CAM_SIDE)
+DEFAULT_IMAGE_SIZE = 448
+
+# Objects: body name = object id; parts below.
+FLOOR_GEOM = "floor"
+
+
+def part_joint(part: str) -> str:
+    """Joint of an articulated part (drawer slide or knob hinge)."""
+    return f"{part}_joint"
+
+
+def part_handle_site(part: str) -> str:
+    """Site at the grasp point of a part's handle or knob."""
+    return f"{part}_handle"
+
+
+def object_geom(obj_id: str, piece: str) -> str:
+    """Geom names are prefixed by their object id so contacts map back to objects."""
+    return f"{obj_id}/{piece}"

@@ -1,0 +1,39 @@
+"""Skill library entries (``skills/<name>.json``): the single source of truth for skills."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from vlm_bench.types.world import SNAKE, Frozen
+
+
+class SkillField(Frozen):
+    """A field a plan step of this skill carries."""
+
+    name: str = Field(pattern=SNAKE, description="JSON key in the plan step.")
+    type: Literal["object", "direction", "number"] = Field(description="What the value is.")
+    required: bool = Field(description="The step is invalid without it.")
+    description: str = Field(description="One line for the prompt.")
+    values: tuple[str, ...] | None = Field(
+        default=None, description="Allowed values (closed vocabularies such as directions)."
+    )
+    value_aliases: dict[str, tuple[str, ...]] = Field(
+        default_factory=dict, description="Canonical value → accepted spellings (normalised)."
+    )
+
+
+class SkillSpec(Frozen):
+    """One skill of the library: how it is prompted, validated and executed."""
+
+    name: str = Field(pattern=SNAKE, description="Canonical name used in plans.")
+    agent: Literal["UAV", "ARM"] = Field(description="Which agent performs it (plan tasktype).")
+    description: str = Field(description="What it does, for the prompt.")
+    aliases: tuple[str, ...] = Field(default=(), description="Other names models use for it.")
+    fields: tuple[SkillField, ...] = Field(description="Fields of a plan step using this skill.")
+    preconditions: tuple[str, ...] = Field(default=(), description="What must hold before.")
+    effects: tuple[str, ...] = Field(default=(), description="What holds after success.")
+    applies_to: tuple[str, ...] = Field(
+        default=(), description="Object/part kinds it applies to (empty = any graspable object)."
+    )
