@@ -1,0 +1,1 @@
+"""Command-line interface (typer): thin layer over the Python API."""

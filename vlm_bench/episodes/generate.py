@@ -1,0 +1,126 @@
+"""Episode = task × seed: layout, UAV start, lighting, GT plan (SPEC §3).
+
+Seed 0 is the canonical layout (objects exactly as in the task file); other seeds jitter movable
+objects. Every seed places the UAV start at a different bearing/heading/distance so that at least
+one UAV move is needed, and the first move's body-frame direction cycles through the eight
+sectors across seeds and tasks. Sampling is deterministic in (task id, seed).
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+
+import numpy as np
+
+from vlm_bench.catalog.tasks import get_task, task_index
+from vlm_bench.catalog.world import environment, object_kind
+from vlm_bench.episodes.geometry import point_rect_distance, rect_corners, wrap_deg
+from vlm_bench.episodes.ground_truth import AmbiguousGeometry, GroundTruthBuilder, first_reference
+from vlm_bench.episodes.layout import part_refs, place_objects
+from vlm_bench.errors import ConfigError, EpisodeGenerationError
+from vlm_bench.types.episode import Episode, Lighting, UavPose
+from vlm_bench.types.task import TaskSpec
+
+MAX_ATTEMPTS = 500
+CRUISE_ALTITUDE = 1.40  # m, UAV body altitude at the start
+ALTITUDE_JITTER = 0.03  # m
+START_DISTANCE = (1.3, 2.0)  # m, horizontal distance to the first ARM object
+BEARING_SPREAD = 12.0  # deg around the sector centre (boundaries are 22.5 deg away)
+FRONT_CONE = 35.0  # deg, start cone for parts approached from the front (drawers)
+WALL_CLEARANCE = 0.8  # m
+TALL_CLEARANCE = 0.6  # m from fixtures taller than the stowed arm's lowest point
+
+
+def first_sector(task_id: str, seed: int) -> int:
+    """Body-frame sector (0 = front, CCW) of the first move: cycles over seeds and tasks."""
+    return (task_index(task_id) * 3 + seed) % 8
+
+
+def _rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
+    return np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt])
+
+
+def _lighting(task_id: str, seed: int) -> Lighting:
+    if seed == 0:
+        return Lighting(azimuth_deg=0.0, intensity=1.0)
+    rng = np.random.default_rng([zlib.crc32(task_id.encode()), seed, 999_983])
+    return Lighting(
+        azimuth_deg=round(float(rng.uniform(-40, 40)), 2),
+        intensity=round(float(rng.uniform(0.85, 1.15)), 3),
+    )
+
+
+def _sample_start(
+    task: TaskSpec, seed: int, rng: np.random.Generator, target: np.ndarray,
+    front: tuple[float, float] | None,
+) -> UavPose:
+    sector = first_sector(task.id, seed)
+    body_bearing = 45.0 * sector + float(rng.uniform(-BEARING_SPREAD, BEARING_SPREAD))
+    if front is not None:
+        # World direction from UAV to target points against the part's front normal.
+        normal = math.degrees(math.atan2(front[1], front[0]))
+        world_bearing = normal + 180.0 + float(rng.uniform(-FRONT_CONE, FRONT_CONE))
+    else:
+        world_bearing = float(rng.uniform(-180.0, 180.0))
+    yaw = wrap_deg(world_bearing - body_bearing)
+    dist = float(rng.uniform(*START_DISTANCE))
+    x = target[0] - dist * math.cos(math.radians(world_bearing))
+    y = target[1] - dist * math.sin(math.radians(world_bearing))
+    z = CRUISE_ALTITUDE + float(rng.uniform(-ALTITUDE_JITTER, ALTITUDE_JITTER))
+    return UavPose(pos=(round(x, 4), round(y, 4), round(z, 4)), yaw_deg=round(yaw, 3))
+
+
+def _check_start(task: TaskSpec, start: UavPose, objects: list) -> None:  # type: ignore[type-arg]
+    half = environment(task.environment).room_half_size - WALL_CLEARANCE
+    if max(abs(start.pos[0]), abs(start.pos[1])) > half:
+        raise AmbiguousGeometry("UAV start is too close to the arena edge")
+    for obj in objects:
+        kind = object_kind(obj.kind)
+        if kind.movable or obj.pos[2] + kind.size[2] < start.pos[2] - 0.5:
+            continue
+        corners = rect_corners(obj.pos, kind.size[:2], obj.yaw_deg)
+        if point_rect_distance(start.pos, corners) < TALL_CLEARANCE:
+            raise AmbiguousGeometry(f"UAV start is too close to {obj.id}")
+
+
+def make_episode(task: TaskSpec | str, seed: int) -> Episode:
+    """Materialise one episode; deterministic in (task id, seed)."""
+    if isinstance(task, str):
+        task = get_task(task)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ConfigError(f"seed must be a non-negative integer, got {seed!r}")
+    reasons: dict[str, int] = {}
+    for attempt in range(MAX_ATTEMPTS):
+        rng = _rng(task.id, seed, attempt)
+        try:
+            objects = place_objects(task, None if seed == 0 else rng)
+            parts = part_refs(objects)
+            builder = GroundTruthBuilder(objects, parts)
+            target, front = first_reference(builder, task.arm_steps)
+            start = _sample_start(task, seed, rng, target, front)
+            _check_start(task, start, objects)
+            plan, poses = builder.build(start, task.arm_steps)
+        except (AmbiguousGeometry, ValueError) as exc:
+            key = str(exc).split(" ")[0] if not isinstance(exc, AmbiguousGeometry) else str(exc)
+            reasons[key] = reasons.get(key, 0) + 1
+            continue
+        return Episode(
+            task_id=task.id,
+            seed=seed,
+            suite=task.suite,
+            environment=task.environment,
+            instructions=task.instructions,
+            objects=tuple(objects),
+            parts=tuple(parts),
+            uav_start=start,
+            lighting=_lighting(task.id, seed),
+            gt_plan=tuple(plan),
+            gt_uav_poses=tuple(poses),
+            goals=task.goals,
+        )
+    top = sorted(reasons.items(), key=lambda kv: -kv[1])[:3]
+    raise EpisodeGenerationError(
+        f"task {task.id!r} seed {seed}: no valid layout in {MAX_ATTEMPTS} attempts "
+        f"(most common: {top})"
+    )

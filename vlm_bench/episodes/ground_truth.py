@@ -1,0 +1,222 @@
+"""Derive the GT plan from geometry (SPEC §3): UAV moves are computed, never typed by hand.
+
+Before each ARM step whose object is out of reach, a horizontal move is inserted whose direction
+is the bearing from the UAV to the object in the UAV body frame, quantised to eight sectors; then
+``up``/``down`` if the operating altitude differs by more than a threshold. The UAV's pose is
+tracked with ideal kinematics (the executor's stopping rule) and the scene's state is tracked
+through the skills' effects (picked objects travel, drawers open), so later steps are judged
+from where things really are. Any decision that lies within a safety margin of its threshold
+raises :class:`AmbiguousGeometry`, and the caller resamples the seed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vlm_bench.catalog.world import object_kind
+from vlm_bench.episodes.geometry import (
+    body_bearing_deg,
+    move_stop,
+    quantise_bearing,
+    rect_corners,
+    rotate_xy,
+    segment_rect_distance,
+)
+from vlm_bench.episodes.layout import CONTAINER_FLOOR
+from vlm_bench.types.episode import EpisodeObject, PartRef, UavPose
+from vlm_bench.types.geometry import APPROACH, ApproachGeometry
+from vlm_bench.types.plan import ArmStep, Direction, UavStep
+from vlm_bench.types.task import ArmStepSpec
+
+SECTOR_MARGIN_DEG = 8.0  # bearings this close to a sector boundary are ambiguous
+REACH_MARGIN = 0.06  # m around the reach limit
+VERTICAL_MARGIN = 0.06  # m around the vertical threshold
+UAV_CLEARANCE = 0.50  # m, rotor tip radius: horizontal clearance from tall fixtures
+DRAWER_PULL = 0.35  # m, nominal opening after a pull (SPEC §7: >= 0.35)
+DRAWER_FLOOR_BELOW_HANDLE = 0.10  # m
+
+
+class AmbiguousGeometry(ValueError):
+    """A GT decision lies too close to a threshold (or is infeasible); resample."""
+
+
+@dataclass
+class _State:
+    uav_xy: tuple[float, float]
+    uav_z: float
+    yaw: float
+    bottoms: dict[str, tuple[float, float, float]]
+    openings: dict[str, float]
+    held: str | None = None
+    gone: set[str] = field(default_factory=set)
+
+
+@dataclass(frozen=True)
+class _Ref:
+    x: float
+    y: float
+    z: float
+    standoff: float
+
+
+class GroundTruthBuilder:
+    """Turns an ARM skeleton into a full GT plan for one layout and UAV start."""
+
+    def __init__(
+        self,
+        objects: list[EpisodeObject],
+        parts: list[PartRef],
+        geometry: ApproachGeometry = APPROACH,
+    ) -> None:
+        self.geometry = geometry
+        self.objects = {o.id: o for o in objects}
+        self.parts = {p.id: p for p in parts}
+        self._part_specs = {
+            p.name: (p, self.objects[ref.parent])
+            for ref in parts
+            for p in object_kind(self.objects[ref.parent].kind).parts
+            if p.name == ref.id
+        }
+        self._tall = [
+            (o.id, rect_corners(o.pos, object_kind(o.kind).size[:2], o.yaw_deg), o.pos[2] + h)
+            for o in objects
+            if not object_kind(o.kind).movable
+            for h in [object_kind(o.kind).size[2]]
+        ]
+
+    # ---- references -------------------------------------------------------------------
+    def _ref(self, state: _State, obj_id: str) -> _Ref:
+        if obj_id in self.parts:
+            spec, _ = self._part_specs[obj_id]
+            hx, hy, hz = self._handle(state, obj_id)
+            return _Ref(hx, hy, hz, spec.standoff or self.geometry.standoff_horizontal)
+        kind = object_kind(self.objects[obj_id].kind)
+        bx, by, bz = state.bottoms[obj_id]
+        return _Ref(bx, by, bz + kind.size[2] / 2, self.geometry.standoff_horizontal)
+
+    def _handle(self, state: _State, part: str) -> tuple[float, float, float]:
+        """Handle position with the drawer's current opening along its owner's front axis."""
+        spec, owner = self._part_specs[part]
+        opening = state.openings.get(part, 0.0)
+        lx, ly = rotate_xy(spec.handle[0] + opening, spec.handle[1], owner.yaw_deg)
+        return owner.pos[0] + lx, owner.pos[1] + ly, owner.pos[2] + spec.handle[2]
+
+    def _top_for(self, state: _State, dest: str) -> tuple[float, float, float]:
+        """Where an object placed on/in ``dest`` rests (x, y, bottom z)."""
+        if dest in self.parts:
+            hx, hy, hz = self._handle(state, dest)
+            _, owner = self._part_specs[dest]
+            # The drawer's interior centre lies behind its handle, along the owner's front axis.
+            bx, by = rotate_xy(-0.2, 0.0, owner.yaw_deg)
+            return hx + bx, hy + by, hz - DRAWER_FLOOR_BELOW_HANDLE
+        kind = object_kind(self.objects[dest].kind)
+        bx, by, bz = state.bottoms[dest]
+        if kind.container and not kind.support:
+            return bx, by, bz + CONTAINER_FLOOR
+        return bx, by, bz + kind.size[2]
+
+    # ---- moves ------------------------------------------------------------------------
+    def _check_path(self, a: tuple[float, float], b: tuple[float, float], z: float) -> None:
+        stow_bottom = z - 0.5
+        for obj_id, corners, top in self._tall:
+            if top > stow_bottom and segment_rect_distance(a, b, corners) < UAV_CLEARANCE:
+                raise AmbiguousGeometry(f"UAV path passes too close to {obj_id}")
+
+    def _approach(self, state: _State, ref: _Ref) -> list[UavStep]:
+        geo = self.geometry
+        steps: list[UavStep] = []
+        dist = math.hypot(ref.x - state.uav_xy[0], ref.y - state.uav_xy[1])
+        if abs(dist - geo.reach_horizontal) < REACH_MARGIN:
+            raise AmbiguousGeometry("object lies at the edge of reach")
+        if dist > geo.reach_horizontal:
+            bearing = body_bearing_deg(state.uav_xy, state.yaw, (ref.x, ref.y))
+            direction, margin = quantise_bearing(bearing)
+            if margin < SECTOR_MARGIN_DEG:
+                raise AmbiguousGeometry(f"bearing {bearing:.1f} deg is near a sector boundary")
+            heading = state.yaw + direction.angle_deg
+            stop = move_stop(state.uav_xy, heading, (ref.x, ref.y), ref.standoff, geo.max_move)
+            if math.dist(stop, (ref.x, ref.y)) > geo.reach_horizontal - REACH_MARGIN:
+                raise AmbiguousGeometry("the move cannot bring the object into reach")
+            self._check_path(state.uav_xy, stop, state.uav_z)
+            state.uav_xy = (round(stop[0], 4), round(stop[1], 4))
+            steps.append(UavStep(direction=direction))
+        op_z = geo.operating_altitude(ref.z)
+        dz = op_z - state.uav_z
+        if abs(abs(dz) - geo.vertical_threshold) < VERTICAL_MARGIN:
+            raise AmbiguousGeometry("altitude difference is near the vertical threshold")
+        if abs(dz) > geo.vertical_threshold:
+            steps.append(UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN))
+            state.uav_z = round(op_z, 4)
+        return steps
+
+    # ---- skill effects ----------------------------------------------------------------
+    def _apply(self, state: _State, step: ArmStepSpec) -> None:
+        if step.skill == "pick":
+            state.held = step.object
+        elif step.skill == "place" and state.held is not None:
+            state.bottoms[state.held] = self._top_for(state, step.object)
+            state.held = None
+        elif step.skill == "pull" and step.object in self.parts:
+            state.openings[step.object] = DRAWER_PULL
+        elif step.skill == "close" and step.object in self.parts:
+            state.openings[step.object] = 0.0
+        elif step.skill == "push":
+            if step.target is not None:
+                tx, ty, _ = self._top_for(state, step.target)
+                bx, by, bz = state.bottoms[step.object]
+                state.bottoms[step.object] = ((bx + tx) / 2, (by + ty) / 2, bz)
+            else:
+                state.gone.add(step.object)
+
+    def _initial_openings(self) -> dict[str, float]:
+        return {
+            name: owner.initial.get(name, 0.0) for name, (_, owner) in self._part_specs.items()
+        }
+
+    # ---- public -----------------------------------------------------------------------
+    def build(
+        self, start: UavPose, arm_steps: tuple[ArmStepSpec, ...]
+    ) -> tuple[list[UavStep | ArmStep], list[UavPose]]:
+        """GT plan and the UAV pose after each of its steps."""
+        state = _State(
+            uav_xy=(start.pos[0], start.pos[1]),
+            uav_z=start.pos[2],
+            yaw=start.yaw_deg,
+            bottoms={i: o.pos for i, o in self.objects.items()},
+            openings=self._initial_openings(),
+        )
+        plan: list[UavStep | ArmStep] = []
+        poses: list[UavPose] = []
+        for spec in arm_steps:
+            for move in self._approach(state, self._ref(state, spec.object)):
+                plan.append(move)
+                poses.append(_pose(state))
+            plan.append(ArmStep(object=spec.object, skill=spec.skill, target=spec.target))
+            poses.append(_pose(state))
+            self._apply(state, spec)
+        return plan, poses
+
+
+def _pose(state: _State) -> UavPose:
+    return UavPose(pos=(state.uav_xy[0], state.uav_xy[1], state.uav_z), yaw_deg=state.yaw)
+
+
+def first_reference(
+    builder: GroundTruthBuilder, arm_steps: tuple[ArmStepSpec, ...]
+) -> tuple[np.ndarray, tuple[float, float] | None]:
+    """Reference point of the first ARM object and, for front-approached parts, its front axis."""
+    first = arm_steps[0].object
+    state = _State(
+        (0.0, 0.0), 0.0, 0.0, {i: o.pos for i, o in builder.objects.items()},
+        builder._initial_openings(),
+    )
+    ref = builder._ref(state, first)
+    front = None
+    if first in builder.parts:
+        spec, owner = builder._part_specs[first]
+        if spec.approach_front:
+            front = rotate_xy(1.0, 0.0, owner.yaw_deg)
+    return np.array([ref.x, ref.y, ref.z]), front
