@@ -125,9 +125,10 @@ class GroundTruthBuilder:
             if top > stow_bottom and segment_rect_distance(a, b, corners) < UAV_CLEARANCE:
                 raise AmbiguousGeometry(f"UAV path passes too close to {obj_id}")
 
-    def _approach(self, state: _State, ref: _Ref) -> list[UavStep]:
+    def _approach(self, state: _State, ref: _Ref) -> list[tuple[UavStep, UavPose]]:
+        """UAV moves that bring ``ref`` into reach, each with the pose it ends at."""
         geo = self.geometry
-        steps: list[UavStep] = []
+        steps: list[tuple[UavStep, UavPose]] = []
         dist = math.hypot(ref.x - state.uav_xy[0], ref.y - state.uav_xy[1])
         if abs(dist - geo.reach_horizontal) < REACH_MARGIN:
             raise AmbiguousGeometry("object lies at the edge of reach")
@@ -142,14 +143,14 @@ class GroundTruthBuilder:
                 raise AmbiguousGeometry("the move cannot bring the object into reach")
             self._check_path(state.uav_xy, stop, state.uav_z)
             state.uav_xy = (round(stop[0], 4), round(stop[1], 4))
-            steps.append(UavStep(direction=direction))
+            steps.append((UavStep(direction=direction), _pose(state)))
         op_z = geo.operating_altitude(ref.z)
         dz = op_z - state.uav_z
         if abs(abs(dz) - geo.vertical_threshold) < VERTICAL_MARGIN:
             raise AmbiguousGeometry("altitude difference is near the vertical threshold")
         if abs(dz) > geo.vertical_threshold:
-            steps.append(UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN))
             state.uav_z = round(op_z, 4)
+            steps.append((UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN), _pose(state)))
         return steps
 
     # ---- skill effects ----------------------------------------------------------------
@@ -191,9 +192,9 @@ class GroundTruthBuilder:
         plan: list[UavStep | ArmStep] = []
         poses: list[UavPose] = []
         for spec in arm_steps:
-            for move in self._approach(state, self._ref(state, spec.object)):
+            for move, pose in self._approach(state, self._ref(state, spec.object)):
                 plan.append(move)
-                poses.append(_pose(state))
+                poses.append(pose)
             plan.append(ArmStep(object=spec.object, skill=spec.skill, target=spec.target))
             poses.append(_pose(state))
             self._apply(state, spec)
