@@ -1,0 +1,124 @@
+"""Properties: GT plans score 100 against themselves; scores stay in [0, 100]; subtask numbers
+do not matter."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vlm_bench.catalog.skills import arm_skill_names
+from vlm_bench.parsing import parse_plan
+from vlm_bench.scoring import score_plan
+from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
+from vlm_bench.types.scores import EmptyGtPolicy, PlanScores, ScoringConfig
+
+IDS = ["rubiks_cube", "yellow_basket", "red_cup_1", "red_cup_2", "top_drawer"]
+
+uav_steps = st.builds(
+    UavStep,
+    direction=st.sampled_from(list(Direction)),
+    distance=st.none() | st.floats(min_value=0.05, max_value=20),
+)
+
+
+@st.composite
+def arm_steps(draw: st.DrawFn) -> ArmStep:
+    skill = draw(st.sampled_from(arm_skill_names()))
+    target = draw(st.none() | st.sampled_from(IDS)) if skill == "push" else None
+    return ArmStep(skill=skill, object=draw(st.sampled_from(IDS)), target=target)
+
+
+plans = st.lists(uav_steps | arm_steps(), min_size=1, max_size=10)
+configs = st.builds(
+    ScoringConfig,
+    alpha=st.floats(0, 1),
+    neighbour_credit=st.floats(0, 100),
+    empty_gt=st.sampled_from(list(EmptyGtPolicy)),
+)
+
+
+def _in_range(s: PlanScores) -> None:
+    for value in (s.s_plan, s.s_loc, s.s_obj, s.s_skill, s.s_total):
+        assert 0 <= value <= 100
+    if s.succ:
+        assert s.s_total == pytest.approx(100) and s.k == s.n == s.m
+
+
+@settings(max_examples=200, deadline=None)
+@given(plans)
+def test_gt_against_itself_scores_100(gt: list[UavStep | ArmStep]) -> None:
+    parsed = parse_plan(json.dumps(plan_to_json(gt)), IDS)
+    assert parsed.tier == "valid"
+    s = score_plan(parsed, gt)
+    assert (s.s_plan, s.s_loc, s.s_obj, s.s_skill, s.s_total) == (100, 100, 100, 100, 100)
+    assert s.succ and s.error_types == ()
+
+
+_VALUES: list[Any] = [
+    "UAV",
+    "ARM",
+    "front",
+    "frontleft",
+    "up",
+    "down",
+    "left",
+    "pick",
+    "place",
+    "push",
+    "grip",
+    "rubiks_cube",
+    "yellow_basket",
+    "ghost",
+    None,
+    3,
+]
+pred_steps = st.fixed_dictionaries(
+    {},
+    optional={
+        k: st.sampled_from(_VALUES)
+        for k in ("tasktype", "direction", "skill", "object", "target", "distance")
+    },
+)
+predictions = st.lists(pred_steps | st.integers(), max_size=12) | plans.map(plan_to_json)
+
+
+@settings(max_examples=300, deadline=None)
+@given(predictions, plans, configs)
+def test_scores_stay_in_range(
+    pred: list[Any], gt: list[UavStep | ArmStep], config: ScoringConfig
+) -> None:
+    s = score_plan(parse_plan(json.dumps(pred), IDS), gt, config)
+    _in_range(s)
+    assert s.k == len(pred) or s.k == 0
+    assert s.m <= min(s.k, s.n) and s.m_obj <= s.n_obj and s.m_skill <= s.n_skill
+
+
+@settings(max_examples=200, deadline=None)
+@given(plans, plans, st.randoms(use_true_random=False))
+def test_subtask_renumbering_does_not_change_scores(
+    pred: list[UavStep | ArmStep], gt: list[UavStep | ArmStep], rnd: Any
+) -> None:
+    rows = plan_to_json(pred)
+    renumbered = [row | {"subtask": rnd.randint(0, 50)} for row in rows]
+    stripped = [{k: v for k, v in row.items() if k != "subtask"} for row in rows]
+    base = score_plan(parse_plan(json.dumps(rows), IDS), gt)
+    assert score_plan(parse_plan(json.dumps(renumbered), IDS), gt) == base
+    assert score_plan(parse_plan(json.dumps(stripped), IDS), gt) == base
+
+
+@settings(max_examples=200, deadline=None)
+@given(plans, plans)
+def test_succ_iff_same_plan(pred: list[UavStep | ArmStep], gt: list[UavStep | ArmStep]) -> None:
+    s = score_plan(parse_plan(json.dumps(plan_to_json(pred)), IDS), gt)
+    same = [
+        p.model_copy(update={"distance": None}) if isinstance(p, UavStep) else p for p in pred
+    ] == [g.model_copy(update={"distance": None}) if isinstance(g, UavStep) else g for g in gt]
+    assert s.succ is same
+    if same:
+        assert s.s_total == 100 and s.error_types == ()
+    else:
+        assert s.error_types != ()

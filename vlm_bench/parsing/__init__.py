@@ -1,0 +1,20 @@
+"""Model output → plan: JSON extraction, deterministic repair, normalisation, error codes.
+
+Parsing never raises on model output; see :func:`parse_plan` and
+:class:`vlm_bench.types.parse.ParseCode` for the closed set of error codes.
+"""
+
+from vlm_bench.parsing.parser import parse_plan
+from vlm_bench.parsing.schema import plan_json_schema, step_json_schema
+from vlm_bench.parsing.validate import is_valid, schema_violations
+from vlm_bench.parsing.vocab import object_id, token
+
+__all__ = [
+    "is_valid",
+    "object_id",
+    "parse_plan",
+    "plan_json_schema",
+    "schema_violations",
+    "step_json_schema",
+    "token",
+]

@@ -1,0 +1,52 @@
+"""``parse_plan``: model text → :class:`ParseResult`. Never raises on model output."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from functools import lru_cache
+from typing import Any
+
+from vlm_bench.parsing.locate import locate_plan
+from vlm_bench.parsing.schema import plan_json_schema
+from vlm_bench.parsing.steps import normalise_step
+from vlm_bench.parsing.validate import is_valid
+from vlm_bench.parsing.vocab import SceneIds, vocabulary
+from vlm_bench.types.parse import ParseCode, ParseResult
+
+
+@lru_cache(maxsize=256)
+def _schema(object_ids: tuple[str, ...] | None) -> dict[str, Any]:
+    return plan_json_schema(object_ids)
+
+
+def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResult:
+    """Parse a model's plan output.
+
+    Args:
+        text: The raw model output.
+        object_ids: The scene's object and part ids. When given, references are matched to
+            them (after case/separator normalisation) and others are flagged ``unknown_object``;
+            the schema behind the ``valid`` tier then requires them.
+
+    Returns:
+        The plan with per-step validity and codes, plan-level codes, the repairs applied and a
+        tier: ``valid`` when the raw text is JSON that validates against
+        :func:`~vlm_bench.parsing.schema.plan_json_schema` (and every step is clean),
+        ``repaired`` when a plan was obtained after repair or normalisation, else ``invalid``.
+    """
+    located = locate_plan(text if isinstance(text, str) else "")
+    if located.items is None or not located.items:
+        errors = located.errors or (ParseCode.EMPTY_PLAN,)
+        return ParseResult(tier="invalid", errors=errors, repairs=located.repairs)
+    ids = tuple(object_ids) if object_ids is not None else None
+    scene = SceneIds(ids)
+    vocab = vocabulary()
+    steps = tuple(normalise_step(i, raw, vocab, scene) for i, raw in enumerate(located.items))
+    clean = is_valid(_schema(ids), located.items) and all(s.valid and not s.errors for s in steps)
+    errors = located.errors if clean else (*located.errors, ParseCode.SCHEMA)
+    return ParseResult(
+        tier="valid" if clean and located.strict else "repaired",
+        steps=steps,
+        errors=errors,
+        repairs=located.repairs,
+    )

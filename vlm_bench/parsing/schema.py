@@ -1,0 +1,102 @@
+"""The plan JSON Schema, generated from the skill library.
+
+One step variant per agent (``tasktype`` const): the agent's skills as an enum (required when
+the agent has more than one skill, so the paper's UAV steps need no ``skill``), the union of
+its skills' fields (required when every skill of the agent requires it), and an optional
+``subtask`` number. Object fields are an enum of the scene's ids when they are given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from vlm_bench.catalog.skills import skills
+from vlm_bench.errors import DataFileError
+from vlm_bench.types.skill import SkillField, SkillSpec
+
+SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
+
+
+def _field_schema(fld: SkillField, object_ids: Sequence[str] | None) -> dict[str, Any]:
+    out: dict[str, Any]
+    if fld.type == "object":
+        out = {"type": "string"}
+        if object_ids is not None:
+            out["enum"] = list(dict.fromkeys(object_ids))
+    elif fld.type == "direction":
+        out = {"type": "string"}
+        if fld.values is not None:
+            out["enum"] = list(fld.values)
+    else:  # number: distances and other magnitudes are positive
+        out = {"type": "number", "exclusiveMinimum": 0}
+    out["description"] = fld.description
+    return out
+
+
+def _agent_fields(specs: Sequence[SkillSpec]) -> tuple[dict[str, SkillField], list[str]]:
+    """Union of the agent's fields by name, and the names every skill requires, in order."""
+    fields: dict[str, SkillField] = {}
+    for spec in specs:
+        for fld in spec.fields:
+            seen = fields.setdefault(fld.name, fld)
+            if (seen.type, seen.values) != (fld.type, fld.values):
+                raise DataFileError(
+                    f"skills/{spec.name}.json", f"field {fld.name!r} differs from another skill's"
+                )
+    required = [
+        name
+        for name in fields
+        if all(any(f.name == name and f.required for f in spec.fields) for spec in specs)
+    ]
+    return fields, required
+
+
+def step_json_schema(agent: str, object_ids: Sequence[str] | None = None) -> dict[str, Any]:
+    """JSON Schema of one step performed by ``agent`` (``UAV`` or ``ARM``)."""
+    specs = [s for s in skills().values() if s.agent == agent]
+    fields, required = _agent_fields(specs)
+    properties: dict[str, Any] = {
+        "subtask": {
+            "type": "integer",
+            "minimum": 0,
+            "description": "Step number from 0 (ignored: order is the array order).",
+        },
+        "tasktype": {"const": agent, "description": "Which agent performs the step."},
+        "skill": {
+            "type": "string",
+            "enum": [s.name for s in specs],
+            "description": "Skill from the skill library.",
+        },
+    }
+    for name, fld in fields.items():
+        properties[name] = _field_schema(fld, object_ids)
+    skill_required = ["skill"] if len(specs) > 1 else []
+    return {
+        "title": f"{agent} step",
+        "type": "object",
+        "properties": properties,
+        "required": ["tasktype", *skill_required, *required],
+        "additionalProperties": False,
+    }
+
+
+def plan_json_schema(object_ids: Sequence[str] | None = None) -> dict[str, Any]:
+    """JSON Schema of a plan: a non-empty array of steps, one variant per agent.
+
+    Args:
+        object_ids: The scene's object (and part) ids; when given, ``object``/``target`` must be
+            one of them.
+
+    Returns:
+        A JSON Schema (draft 2020-12) as a dict, fit for constrained decoding and validation.
+    """
+    agents = list(dict.fromkeys(s.agent for s in skills().values()))
+    return {
+        "$schema": SCHEMA_DIALECT,
+        "title": "Plan",
+        "description": "Steps in execution order.",
+        "type": "array",
+        "minItems": 1,
+        "items": {"anyOf": [step_json_schema(agent, object_ids) for agent in agents]},
+    }
