@@ -1,0 +1,223 @@
+"""The openai backend against a fake OpenAI-compatible server on 127.0.0.1 (loopback only)."""
+
+from __future__ import annotations
+
+import base64
+import json
+import threading
+import time
+from collections.abc import Iterator
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from typing import Any
+
+import pytest
+
+pytest.importorskip("openai")
+
+from vlm_bench.backends import resolve_backend
+from vlm_bench.errors import ConfigError
+from vlm_bench.types.generation import (
+    GenerationConfig,
+    GenerationRequest,
+    ImagePart,
+)
+from vlm_bench.types.prompt import TextPart
+
+PNG = b"\x89PNG\r\n\x1a\n" + b"fake-png-body"
+FAST = {"backoff_s": "0.01", "backoff_max_s": "0.02"}
+
+
+class FakeServer:
+    """Scripted chat-completions endpoint that records what it receives."""
+
+    def __init__(self) -> None:
+        self.received: list[dict[str, Any]] = []
+        self.fail_first = 0  # answer the first N calls with HTTP 500
+        self.status = 500
+        self.sleep_s = 0.0
+        self.calls = 0
+        self.lock = threading.Lock()
+        server = self
+
+        class Handler(BaseHTTPRequestHandler):
+            def log_message(self, *args: object) -> None:  # keep test output quiet
+                pass
+
+            def do_POST(self) -> None:
+                body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
+                with server.lock:
+                    server.calls += 1
+                    call = server.calls
+                    server.received.append(body)
+                if server.sleep_s:
+                    time.sleep(server.sleep_s)
+                if call <= server.fail_first:
+                    self._reply(server.status, {"error": {"message": "boom", "type": "server"}})
+                    return
+                text = json.dumps([{"subtask": 0, "tasktype": "UAV", "direction": "left"}])
+                n_images = sum(
+                    1 for part in body["messages"][-1]["content"] if part["type"] == "image_url"
+                )
+                self._reply(
+                    200,
+                    {
+                        "id": f"c{call}",
+                        "object": "chat.completion",
+                        "created": 0,
+                        "model": body["model"],
+                        "choices": [
+                            {
+                                "index": 0,
+                                "finish_reason": "stop",
+                                "message": {"role": "assistant", "content": text},
+                            }
+                        ],
+                        "usage": {
+                            "prompt_tokens": 100 + n_images,
+                            "completion_tokens": 7,
+                            "total_tokens": 107 + n_images,
+                        },
+                    },
+                )
+
+            def _reply(self, status: int, payload: dict[str, Any]) -> None:
+                data = json.dumps(payload).encode()
+                try:
+                    self.send_response(status)
+                    self.send_header("Content-Type", "application/json")
+                    self.send_header("Content-Length", str(len(data)))
+                    self.end_headers()
+                    self.wfile.write(data)
+                except (BrokenPipeError, ConnectionResetError):
+                    pass  # the client gave up (timeout test)
+
+        self.httpd = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+        self.httpd.daemon_threads = True
+        self.httpd.block_on_close = False  # do not wait for handlers still sleeping
+        self.url = f"http://127.0.0.1:{self.httpd.server_address[1]}/v1"
+        self.thread = threading.Thread(
+            target=self.httpd.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True
+        )
+
+    def __enter__(self) -> FakeServer:
+        self.thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.httpd.shutdown()
+        self.httpd.server_close()
+
+
+@pytest.fixture
+def server() -> Iterator[FakeServer]:
+    with FakeServer() as srv:
+        yield srv
+
+
+def _request(rid: str, schema: dict[str, Any] | None = None) -> GenerationRequest:
+    return GenerationRequest(
+        id=rid,
+        system="You plan.",
+        user=(
+            TextPart(text="UAV camera (uav):"),
+            ImagePart(view="uav", png=PNG),
+            TextPart(text="Side camera (side):"),
+            ImagePart(view="side", png=PNG),
+            TextPart(text="Instruction: go left."),
+        ),
+        json_schema=schema,
+    )
+
+
+def test_request_shape_and_results(server: FakeServer) -> None:
+    backend = resolve_backend("openai/my-vlm", {"base_url": server.url, "concurrency": "3"})
+    assert backend.max_concurrency == 3
+    results = backend.generate([_request(f"r{i}") for i in range(5)], GenerationConfig())
+    assert [r.id for r in results] == [f"r{i}" for i in range(5)]
+    assert all(r.error is None and json.loads(r.text)[0]["direction"] == "left" for r in results)
+    assert results[0].prompt_tokens == 102 and results[0].completion_tokens == 7
+    assert results[0].finish_reason == "stop" and results[0].latency_s > 0
+    body = server.received[0]
+    assert body["model"] == "my-vlm" and body["max_tokens"] == 512
+    assert body["temperature"] == 0.0 and "seed" not in body and "response_format" not in body
+    system, user = body["messages"]
+    assert system == {"role": "system", "content": "You plan."}
+    kinds = [p["type"] for p in user["content"]]
+    assert kinds == ["text", "image_url", "text", "image_url", "text"]
+    url = user["content"][1]["image_url"]["url"]
+    assert url.startswith("data:image/png;base64,")
+    assert base64.b64decode(url.split(",", 1)[1]) == PNG
+    backend.close()
+
+
+def test_system_merge_sampling_and_json_schema(server: FakeServer) -> None:
+    schema = {"type": "array", "items": {"type": "object"}}
+    backend = resolve_backend(
+        "openai/m", {"base_url": server.url, "system_role": "false", "image_detail": "low"}
+    )
+    config = GenerationConfig(temperature=0.7, seed=5, constrained=True, max_new_tokens=64)
+    [result] = backend.generate([_request("a", schema)], config)
+    assert result.error is None
+    body = server.received[0]
+    assert [m["role"] for m in body["messages"]] == ["user"]
+    assert body["messages"][0]["content"][0] == {"type": "text", "text": "You plan."}
+    assert body["messages"][0]["content"][2]["image_url"]["detail"] == "low"
+    assert body["seed"] == 5 and body["max_tokens"] == 64
+    assert body["response_format"] == {
+        "type": "json_schema",
+        "json_schema": {"name": "plan", "schema": schema},
+    }
+    with pytest.raises(ConfigError, match=r"needs GenerationRequest\.json_schema"):
+        backend.generate([_request("b")], config)
+
+
+def test_transient_errors_are_retried(server: FakeServer) -> None:
+    server.fail_first = 2
+    backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "3", **FAST})
+    [result] = backend.generate([_request("a")], GenerationConfig())
+    assert result.error is None and server.calls == 3
+
+
+def test_exhausted_retries_are_recorded_not_raised(server: FakeServer) -> None:
+    server.fail_first = 100
+    backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "2", **FAST})
+    [result] = backend.generate([_request("a")], GenerationConfig())
+    assert server.calls == 3 and result.text == ""
+    assert result.error is not None and "InternalServerError 500" in result.error
+
+
+def test_client_errors_are_not_retried(server: FakeServer) -> None:
+    server.fail_first, server.status = 100, 400
+    backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "3", **FAST})
+    [result] = backend.generate([_request("a")], GenerationConfig())
+    assert server.calls == 1 and result.error is not None and "400" in result.error
+
+
+def test_timeouts_are_recorded(server: FakeServer) -> None:
+    server.sleep_s = 1.0
+    backend = resolve_backend(
+        "openai/m", {"base_url": server.url, "timeout_s": "0.2", "retries": "1", **FAST}
+    )
+    start = time.perf_counter()
+    [result] = backend.generate([_request("a")], GenerationConfig())
+    assert result.error is not None and "Timeout" in result.error
+    assert server.calls == 2 and time.perf_counter() - start < 1.5
+
+
+def test_requests_run_concurrently(server: FakeServer) -> None:
+    server.sleep_s = 0.3
+    backend = resolve_backend("openai/m", {"base_url": server.url, "concurrency": "4"})
+    start = time.perf_counter()
+    results = backend.generate([_request(f"r{i}") for i in range(4)], GenerationConfig())
+    assert all(r.error is None for r in results)
+    assert time.perf_counter() - start < 0.9  # sequential would take >= 1.2 s
+
+
+def test_environment_fallbacks(server: FakeServer, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("VLM_BENCH_OPENAI_BASE_URL", server.url)
+    monkeypatch.setenv("OPENAI_API_KEY", "sk-test")
+    backend = resolve_backend("openai/m", {})
+    [result] = backend.generate([_request("a")], GenerationConfig())
+    assert result.error is None and server.calls == 1
+    with pytest.raises(ConfigError, match="needs a model name"):
+        resolve_backend("openai/", {})

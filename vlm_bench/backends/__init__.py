@@ -1,0 +1,31 @@
+"""Model backends: one required method, ``generate(requests, config) -> results``.
+
+Importing this package imports no heavy dependency (torch, transformers, openai, vllm); each
+backend imports its own when it is built.
+"""
+
+from vlm_bench.backends.base import Backend, BackendArgs, parse_args
+from vlm_bench.backends.registry import (
+    BACKENDS,
+    ENTRY_POINT_GROUP,
+    BackendEntry,
+    BackendFactory,
+    load_plugins,
+    parse_model_args,
+    resolve_backend,
+    split_model,
+)
+
+__all__ = [
+    "BACKENDS",
+    "ENTRY_POINT_GROUP",
+    "Backend",
+    "BackendArgs",
+    "BackendEntry",
+    "BackendFactory",
+    "load_plugins",
+    "parse_args",
+    "parse_model_args",
+    "resolve_backend",
+    "split_model",
+]

@@ -1,0 +1,109 @@
+"""The backend interface: one required method, optional hooks, typed ``-M key=value`` args."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
+from types import TracebackType
+from typing import ClassVar, Self, TypeVar
+
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from vlm_bench.errors import ConfigError
+from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
+
+
+class BackendArgs(BaseModel):
+    """Base of every backend's ``-M key=value`` arguments (strings coerced to field types)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+A = TypeVar("A", bound=BackendArgs)
+
+
+def parse_args(backend: str, model: type[A], raw: Mapping[str, str]) -> A:
+    """Validate ``-M`` arguments against a backend's args model.
+
+    Raises:
+        ConfigError: One line naming the bad key or value and listing the valid keys.
+    """
+    valid = ", ".join(sorted(model.model_fields)) or "(none)"
+    unknown = sorted(set(raw) - set(model.model_fields))
+    if unknown:
+        raise ConfigError(
+            f"unknown -M argument {unknown[0]!r} for backend {backend!r}; valid: {valid}"
+        )
+    try:
+        return model.model_validate(dict(raw))
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        key = ".".join(str(p) for p in err["loc"]) or "(args)"
+        got = raw.get(key)
+        value = f"={got!r}" if got is not None else ""
+        raise ConfigError(
+            f"invalid -M argument {key}{value} for backend {backend!r}: {err['msg']}; "
+            f"valid keys: {valid}"
+        ) from None
+
+
+class Backend(ABC):
+    """Generates completions for batches of requests.
+
+    Subclasses implement :meth:`generate`. A backend never raises for a failed generation:
+    server errors, timeouts and out-of-memory batches become ``GenerationResult.error``.
+    Exceptions are for configuration errors (bad args, missing extras, missing schema).
+    """
+
+    name: ClassVar[str] = "backend"
+    """Registry name (used in messages)."""
+    Args: ClassVar[type[BackendArgs]] = BackendArgs
+    """The ``-M key=value`` arguments it accepts; the constructor takes ``(model, args)``."""
+
+    @classmethod
+    def from_args(cls, model: str, raw: Mapping[str, str]) -> Self:
+        """Build from a model name and raw ``-M`` strings (validated against :attr:`Args`)."""
+        return cls(model, parse_args(cls.name, cls.Args, raw))  # type: ignore[call-arg]
+
+    @abstractmethod
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        """Complete every request; results come back in request order, one per request."""
+
+    @property
+    def max_concurrency(self) -> int:
+        """How many requests the caller may usefully hand over at once (1 = sequential)."""
+        return 1
+
+    def close(self) -> None:  # noqa: B027  (optional hook, empty by default)
+        """Release models, clients or servers. Idempotent."""
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+
+def require_schemas(
+    backend: str, requests: Sequence[GenerationRequest], config: GenerationConfig
+) -> None:
+    """Constrained decoding needs a schema on every request.
+
+    Raises:
+        ConfigError: Names the first request without ``json_schema``.
+    """
+    if not config.constrained:
+        return
+    for req in requests:
+        if req.json_schema is None:
+            raise ConfigError(
+                f"backend {backend!r}: constrained decoding needs GenerationRequest.json_schema "
+                f"(request {req.id!r} has none)"
+            )

@@ -1,0 +1,180 @@
+"""Backends that need no weights: ``oracle`` (GT ceiling), ``random`` (floor), ``mock`` (scripted).
+
+``oracle`` and ``random`` read :class:`~vlm_bench.types.generation.RequestMeta`, which the runner
+fills from the episode (``gt_plan``, ``object_ids``); a request without it gets an error result.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import random
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from pydantic import Field, model_validator
+
+from vlm_bench.backends.base import Backend, BackendArgs
+from vlm_bench.catalog.skills import skills
+from vlm_bench.errors import ConfigError, DataFileError
+from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
+from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
+
+
+def _answer(
+    req: GenerationRequest,
+    start: float,
+    text: str = "",
+    error: str | None = None,
+) -> GenerationResult:
+    return GenerationResult(
+        id=req.id,
+        text=text,
+        error=error,
+        latency_s=time.perf_counter() - start,
+        finish_reason=None if error else "stop",
+    )
+
+
+class OracleBackend(Backend):
+    """Answers each request with its episode's GT plan (the ceiling: every metric is 100)."""
+
+    name = "oracle"
+
+    def __init__(self, model: str = "", args: BackendArgs | None = None) -> None:
+        self.args = args or BackendArgs()
+
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        """Return ``meta.gt_plan`` in the paper's JSON format."""
+        out: list[GenerationResult] = []
+        for req in requests:
+            start = time.perf_counter()
+            if req.meta is None or req.meta.gt_plan is None:
+                out.append(_answer(req, start, error="oracle: request has no meta.gt_plan"))
+                continue
+            out.append(_answer(req, start, json.dumps(plan_to_json(req.meta.gt_plan))))
+        return out
+
+
+class RandomArgs(BackendArgs):
+    """``-M`` arguments of the random backend."""
+
+    seed: int = Field(default=0, description="Seed; mixed with each request id.")
+    min_steps: int = Field(default=1, ge=1, description="Shortest plan.")
+    max_steps: int = Field(default=6, ge=1, description="Longest plan.")
+
+    @model_validator(mode="after")
+    def _ordered(self) -> RandomArgs:
+        if self.min_steps > self.max_steps:
+            raise ValueError("min_steps must not exceed max_steps")
+        return self
+
+
+class RandomBackend(Backend):
+    """Seeded random *valid* plans over the scene's objects: the floor baseline."""
+
+    name = "random"
+    Args = RandomArgs
+
+    def __init__(self, model: str = "", args: RandomArgs | None = None) -> None:
+        self.args = args or RandomArgs()
+
+    def plan(self, request_id: str, object_ids: Sequence[str]) -> list[UavStep | ArmStep]:
+        """The random plan of one request: same seed and id, same plan."""
+        digest = hashlib.sha256(f"{self.args.seed}|{request_id}".encode()).digest()
+        rng = random.Random(int.from_bytes(digest[:8], "big"))
+        arm = [s for s in skills().values() if s.agent == "ARM"]
+        steps: list[UavStep | ArmStep] = []
+        for _ in range(rng.randint(self.args.min_steps, self.args.max_steps)):
+            if rng.random() < 0.5:
+                steps.append(UavStep(direction=rng.choice(list(Direction))))
+                continue
+            skill = rng.choice(arm)
+            optional = [f.name for f in skill.fields if f.type == "object" and not f.required]
+            target = rng.choice(object_ids) if "target" in optional and rng.random() < 0.5 else None
+            steps.append(ArmStep(object=rng.choice(object_ids), skill=skill.name, target=target))
+        return steps
+
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        """One random plan per request, over ``meta.object_ids``."""
+        out: list[GenerationResult] = []
+        for req in requests:
+            start = time.perf_counter()
+            if req.meta is None or not req.meta.object_ids:
+                out.append(_answer(req, start, error="random: request has no meta.object_ids"))
+                continue
+            plan = self.plan(req.id, req.meta.object_ids)
+            out.append(_answer(req, start, json.dumps(plan_to_json(plan))))
+        return out
+
+
+class MockArgs(BackendArgs):
+    """``-M`` arguments of the mock backend: a JSONL file of scripted outputs, or one text."""
+
+    file: Path | None = Field(
+        default=None, description='JSONL, one {"id": ..., "text": ...} or {"id", "error"} a line.'
+    )
+    text: str | None = Field(default=None, description="Answer every request with this text.")
+
+    @model_validator(mode="after")
+    def _one_source(self) -> MockArgs:
+        if (self.file is None) == (self.text is None):
+            raise ValueError("give exactly one of file=... or text=...")
+        return self
+
+
+def _load_script(path: Path) -> dict[str, tuple[str, str | None]]:
+    """Read scripted outputs: id → (text, error)."""
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError as exc:
+        raise DataFileError(str(path), f"cannot read: {exc.strerror}") from None
+    script: dict[str, tuple[str, str | None]] = {}
+    for n, line in enumerate(lines, start=1):
+        if not line.strip():
+            continue
+        try:
+            row = json.loads(line)
+        except json.JSONDecodeError as exc:
+            raise DataFileError(str(path), f"line {n}: invalid JSON: {exc.msg}") from None
+        if not isinstance(row, dict) or not isinstance(row.get("id"), str):
+            raise DataFileError(str(path), f"line {n}: expected an object with a string 'id'")
+        text, error = row.get("text", ""), row.get("error")
+        if not isinstance(text, str) or not (error is None or isinstance(error, str)):
+            raise DataFileError(str(path), f"line {n}: 'text' and 'error' must be strings")
+        script[row["id"]] = (text, error or None)
+    return script
+
+
+class MockBackend(Backend):
+    """Scripted outputs for tests and demos; unknown ids give an error result."""
+
+    name = "mock"
+    Args = MockArgs
+
+    def __init__(self, model: str = "", args: MockArgs | None = None) -> None:
+        if args is None:
+            raise ConfigError("backend 'mock' needs -M file=outputs.jsonl or -M text=...")
+        self.args = args
+        self.script = _load_script(args.file) if args.file is not None else {}
+
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        """Look each request id up in the script (or answer the fixed text)."""
+        out: list[GenerationResult] = []
+        for req in requests:
+            start = time.perf_counter()
+            if self.args.text is not None:
+                out.append(_answer(req, start, self.args.text))
+            elif req.id in self.script:
+                text, error = self.script[req.id]
+                out.append(_answer(req, start, "" if error else text, error))
+            else:
+                out.append(_answer(req, start, error=f"mock: no scripted output for id {req.id!r}"))
+        return out

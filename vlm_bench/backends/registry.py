@@ -1,0 +1,140 @@
+"""The backend registry, entry-point plug-ins, and the model-string rules.
+
+Model strings: ``oracle``, ``random``, ``mock`` select the built-ins; ``openai/<name>`` and
+``vllm/<id>`` select those backends; ``<plugin>/<model>`` (or a bare ``<plugin>``) selects a
+backend added through the ``vlm_bench.backends`` entry-point group; anything else (a Hugging
+Face id ``org/name`` or a local path) selects ``hf``. Write ``./vllm/x`` for a local folder
+whose name starts like a backend.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from importlib import import_module
+from importlib.metadata import EntryPoint, entry_points
+
+from vlm_bench.backends.base import Backend
+from vlm_bench.errors import ConfigError
+from vlm_bench.registry import Registry
+
+ENTRY_POINT_GROUP = "vlm_bench.backends"
+
+BackendFactory = Callable[[str, Mapping[str, str]], Backend]
+"""Builds a backend from a model name and raw ``-M key=value`` strings."""
+
+
+@dataclass(frozen=True)
+class BackendEntry:
+    """A registered backend."""
+
+    factory: BackendFactory
+    takes_model: bool
+    """Selected by ``<name>/<model>`` (True) or only by the bare name (False)."""
+    description: str
+
+
+def _lazy(module: str, cls: str) -> BackendFactory:
+    """Factory that imports the backend's module only when the backend is built."""
+
+    def create(model: str, args: Mapping[str, str]) -> Backend:
+        backend_cls: type[Backend] = getattr(import_module(module), cls)
+        return backend_cls.from_args(model, args)
+
+    return create
+
+
+BACKENDS: Registry[BackendEntry] = Registry("backend")
+_BUILTIN_SPECS = (
+    # name, module, class, selected by <name>/<model>, description
+    ("oracle", "builtin", "OracleBackend", False, "returns the GT plan (ceiling)"),
+    ("random", "builtin", "RandomBackend", False, "seeded random valid plans (floor)"),
+    ("mock", "builtin", "MockBackend", False, "scripted outputs (-M file=... or -M text=...)"),
+    ("openai", "openai_backend", "OpenAIBackend", True, "OpenAI-compatible server"),
+    ("vllm", "vllm_backend", "VllmBackend", True, "offline vLLM engine"),
+    ("hf", "hf", "HfBackend", False, "transformers image-text-to-text (HF id or path)"),
+)
+for _name, _module, _cls, _takes_model, _doc in _BUILTIN_SPECS:
+    BACKENDS.add(
+        _name, BackendEntry(_lazy(f"vlm_bench.backends.{_module}", _cls), _takes_model, _doc)
+    )
+_BUILTINS = frozenset(BACKENDS.names())
+_plugins_loaded = False
+
+
+def _plugin_factory(ep: EntryPoint) -> BackendFactory:
+    def create(model: str, args: Mapping[str, str]) -> Backend:
+        target = ep.load()
+        if isinstance(target, type) and issubclass(target, Backend):
+            return target.from_args(model, args)
+        if callable(target):
+            backend = target(model, args)
+            if isinstance(backend, Backend):
+                return backend
+        raise ConfigError(
+            f"entry point {ep.name!r} ({ep.value}) must be a Backend subclass or a factory "
+            "(model, args) -> Backend"
+        )
+
+    return create
+
+
+def load_plugins() -> None:
+    """Register the ``vlm_bench.backends`` entry points (once; their modules load on use).
+
+    Raises:
+        DuplicateNameError: Two plug-ins, or a plug-in and a built-in, share a name.
+    """
+    global _plugins_loaded
+    if _plugins_loaded:
+        return
+    _plugins_loaded = True
+    for ep in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: (e.name, e.value)):
+        BACKENDS.add(ep.name, BackendEntry(_plugin_factory(ep), True, f"plug-in {ep.value}"))
+
+
+def split_model(model: str) -> tuple[str, str]:
+    """Apply the model-string rules: ``(backend name, model name for that backend)``."""
+    load_plugins()
+    if model in BACKENDS and model != "hf":
+        return model, ""
+    prefix, sep, rest = model.partition("/")
+    if sep and prefix in BACKENDS and BACKENDS.get(prefix).takes_model:
+        return prefix, rest
+    if not model:
+        raise ConfigError(
+            "empty model string; give a HF id, a local path, openai/<name>, "
+            f"vllm/<id>, or one of: {', '.join(sorted(_BUILTINS - {'hf'}))}"
+        )
+    return "hf", model
+
+
+def resolve_backend(model: str, args: Mapping[str, str] | None = None) -> Backend:
+    """Build the backend a model string selects, with its ``-M key=value`` arguments.
+
+    Args:
+        model: ``oracle``, ``random``, ``mock``, ``openai/<name>``, ``vllm/<id>``,
+            ``<plugin>/<model>``, or a HF id / local path (``hf``).
+        args: Raw ``-M`` strings; each backend validates them against its own args model.
+
+    Raises:
+        ConfigError: Unknown or invalid arguments (the message lists the valid keys).
+        MissingExtraError: The backend's optional dependency is not installed.
+    """
+    name, model_name = split_model(model)
+    return BACKENDS.get(name).factory(model_name, dict(args or {}))
+
+
+def parse_model_args(pairs: list[str] | tuple[str, ...]) -> dict[str, str]:
+    """Parse repeated ``key=value`` strings (the CLI's ``-M``); later keys win.
+
+    Raises:
+        ConfigError: An item without ``=`` or with an empty key.
+    """
+    out: dict[str, str] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip():
+            raise ConfigError(f"-M expects key=value, got {pair!r}")
+        out[key.strip()] = value
+    return out

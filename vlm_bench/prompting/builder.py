@@ -1,0 +1,169 @@
+"""Build a prompt for an episode: system text, user turn with image slots, and its hash."""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import re
+from collections.abc import Mapping, Sequence
+
+from vlm_bench.errors import ConfigError
+from vlm_bench.prompting.examples import select_examples
+from vlm_bench.prompting.skills_section import skill_rows, skills_digest
+from vlm_bench.prompting.templates import render, templates_digest
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.plan import Direction, plan_to_json
+from vlm_bench.types.prompt import (
+    FewShotExample,
+    ImageSlot,
+    Prompt,
+    PromptConfig,
+    PromptPart,
+    TextPart,
+)
+
+_PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+# NUL cannot occur in instructions or ids, so these markers cannot be forged by data.
+_SLOT = "\x00image:{}\x00"
+_SLOT_RE = re.compile("\x00image:([a-z]+)\x00")
+
+
+def episode_key(episode: Episode) -> str:
+    """Key that seeds per-episode few-shot selection (same for both instruction variants)."""
+    return f"{episode.task_id}:{episode.seed}"
+
+
+def to_png(image: object) -> bytes:
+    """PNG bytes from PNG bytes, a PIL image or an ``HxWx3`` uint8 array.
+
+    Raises:
+        ConfigError: Bytes that are not PNG, or an unsupported image type.
+    """
+    if isinstance(image, bytes | bytearray):
+        if not bytes(image).startswith(_PNG_MAGIC):
+            raise ConfigError("image bytes are not PNG-encoded")
+        return bytes(image)
+    from PIL import Image
+
+    if not isinstance(image, Image.Image):
+        if not hasattr(image, "__array_interface__"):
+            raise ConfigError(
+                f"unsupported image type {type(image).__name__}; "
+                "give PNG bytes, a PIL image or a uint8 array"
+            )
+        image = Image.fromarray(image)
+    buf = io.BytesIO()
+    image.save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def render_system(config: PromptConfig, examples: Sequence[FewShotExample] = ()) -> str:
+    """The system message: robot, views, skill library, output format, rules, examples."""
+    shots = ""
+    if examples:
+        shots = render(
+            "few_shot.j2",
+            examples=[
+                {
+                    **ex.model_dump(include={"id", "scene", "objects", "instruction"}),
+                    "plan": plan_to_json(ex.plan),
+                }
+                for ex in examples
+            ],
+        ).strip()
+    return render(
+        "system.j2",
+        directions=[d.value for d in Direction],
+        views=list(config.views),
+        skills=skill_rows(),
+        object_list=config.object_list,
+        examples=shots,
+    )
+
+
+def _user_parts(text: str) -> tuple[PromptPart, ...]:
+    parts: list[PromptPart] = []
+    pos = 0
+    for match in _SLOT_RE.finditer(text):
+        before = text[pos : match.start()]
+        if before.strip():
+            parts.append(TextPart(text=before.strip("\n")))
+        parts.append(ImageSlot.model_validate({"view": match.group(1)}))
+        pos = match.end()
+    rest = text[pos:]
+    if rest.strip():
+        parts.append(TextPart(text=rest.strip("\n")))
+    return tuple(parts)
+
+
+def _hash(system: str, user: Sequence[PromptPart]) -> str:
+    payload = {
+        "system": system,
+        "user": [p.model_dump(mode="json") for p in user],
+        "templates": templates_digest(),
+        "skills": skills_digest(),
+    }
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+def build_prompt(
+    episode: Episode, images: Mapping[str, object], config: PromptConfig | None = None
+) -> Prompt:
+    """Render the prompt of one episode.
+
+    Args:
+        episode: The episode (instructions, objects and parts give the object-id list).
+        images: Snapshots by view name (PNG bytes, PIL images or uint8 arrays). Views the
+            config leaves out are ignored.
+        config: Prompt options (views, k-shot, object list, instruction variant).
+
+    Returns:
+        The prompt, with the configured views' images as PNG bytes.
+
+    Raises:
+        ConfigError: An image for a configured view is missing or not an image, or k_shot
+            exceeds the number of few-shot examples.
+    """
+    config = config or PromptConfig()
+    missing = [v for v in config.views if v not in images]
+    if missing:
+        raise ConfigError(
+            f"no image for view(s) {', '.join(missing)}; given: {', '.join(images) or 'none'}"
+        )
+    key = episode_key(episode) if config.few_shot_selection == "per_episode" else ""
+    examples = select_examples(config.k_shot, config.few_shot_seed, key)
+    system = render_system(config, examples)
+    text = render(
+        "user.j2",
+        views=list(config.views),
+        image=lambda view: _SLOT.format(view),
+        object_ids=episode.object_ids() if config.object_list else None,
+        instruction=episode.instruction(config.instruction),
+    )
+    user = _user_parts(text)
+    pngs: dict[str, bytes] = {v: to_png(images[v]) for v in config.views}
+    return Prompt(
+        system=system,
+        user=user,
+        prompt_hash=_hash(system, user),
+        example_ids=tuple(ex.id for ex in examples),
+        images=pngs,
+    )
+
+
+def render_text(prompt: Prompt) -> str:
+    """A readable rendering with ``<image:view>`` placeholders (golden files, HTML gallery)."""
+    user = "\n".join(
+        f"<image:{p.view}>" if isinstance(p, ImageSlot) else p.text for p in prompt.user
+    )
+    return f"### system\n{prompt.system.rstrip()}\n\n### user\n{user.rstrip()}\n"
+
+
+def prompt_config_hash(config: PromptConfig) -> str:
+    """sha256 of everything that shapes a run's prompts: templates, examples, skills, config.
+
+    For the run manifest: two runs with equal hashes render identical prompts for an episode.
+    """
+    payload = f"{templates_digest()}|{skills_digest()}|{config.model_dump_json()}"
+    return hashlib.sha256(payload.encode()).hexdigest()

@@ -1,0 +1,104 @@
+"""What backends consume and produce: requests, generation settings, results."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import ConfigDict, Field, model_validator
+
+from vlm_bench.types.plan import PlanStep
+from vlm_bench.types.prompt import TextPart
+from vlm_bench.types.world import Frozen
+
+
+class ImagePart(Frozen):
+    """An image of one camera view, as PNG bytes (base64 in JSON)."""
+
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", ser_json_bytes="base64", val_json_bytes="base64"
+    )
+
+    type: Literal["image"] = "image"
+    view: str = Field(description="Camera view the image comes from (uav, wrist, overhead, side).")
+    png: bytes = Field(repr=False, description="PNG-encoded image.")
+
+
+ContentPart = Annotated[TextPart | ImagePart, Field(discriminator="type")]
+
+
+class RequestMeta(Frozen):
+    """Episode facts for the built-in backends that need no weights (never shown to a model).
+
+    The runner fills it for every request: ``oracle`` answers ``gt_plan``; ``random`` draws
+    objects from ``object_ids``. Model backends ignore it.
+    """
+
+    task_id: str = Field(default="", description="Task the episode belongs to.")
+    gt_plan: tuple[PlanStep, ...] | None = Field(default=None, description="The episode's GT plan.")
+    object_ids: tuple[str, ...] = Field(default=(), description="Ids a plan may reference.")
+
+
+class GenerationRequest(Frozen):
+    """One prompt to complete: a system message and a user turn of text and images."""
+
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", ser_json_bytes="base64", val_json_bytes="base64"
+    )
+
+    id: str = Field(min_length=1, description="Unique id of this generation (results echo it).")
+    episode_id: str = Field(default="", description="Episode the prompt was built for.")
+    system: str = Field(description="System message text.")
+    user: tuple[ContentPart, ...] = Field(description="User turn: text and images, in order.")
+    json_schema: dict[str, Any] | None = Field(
+        default=None, description="JSON Schema of the output, for constrained decoding."
+    )
+    meta: RequestMeta | None = Field(default=None, description="Episode facts for built-ins.")
+
+    def images(self) -> list[ImagePart]:
+        """The user turn's images, in order."""
+        return [p for p in self.user if isinstance(p, ImagePart)]
+
+
+class GenerationConfig(Frozen):
+    """Decoding settings shared by every backend; part of the run manifest."""
+
+    max_new_tokens: int = Field(default=512, ge=1, description="Most tokens generated.")
+    temperature: float = Field(default=0.0, ge=0.0, description="0 = greedy decoding.")
+    top_p: float = Field(default=1.0, gt=0.0, le=1.0, description="Nucleus sampling mass.")
+    seed: int = Field(default=0, ge=0, description="Sampling seed (where the backend has one).")
+    constrained: bool = Field(
+        default=False, description="Constrain decoding to the request's JSON Schema."
+    )
+    batch_size: int = Field(default=8, ge=1, description="Requests per batch (local backends).")
+
+    @property
+    def greedy(self) -> bool:
+        """True when decoding is greedy (temperature 0)."""
+        return self.temperature == 0.0
+
+
+class GenerationResult(Frozen):
+    """A backend's answer to one request. Failures are recorded here, never raised."""
+
+    id: str = Field(description="The request's id.")
+    text: str = Field(default="", description="Generated text ('' on error).")
+    error: str | None = Field(
+        default=None, description="Server error, timeout, or other failure to generate; None = ok."
+    )
+    latency_s: float = Field(default=0.0, ge=0.0, description="Wall time of the answering call.")
+    prompt_tokens: int | None = Field(default=None, ge=0, description="Prompt tokens, if known.")
+    completion_tokens: int | None = Field(default=None, ge=0, description="Generated tokens.")
+    finish_reason: str | None = Field(
+        default=None, description="Why generation stopped: stop, length, or backend-specific."
+    )
+
+    @model_validator(mode="after")
+    def _error_has_no_text(self) -> GenerationResult:
+        if self.error is not None and self.error == "":
+            raise ValueError("error must be None or a non-empty message")
+        return self
+
+    @property
+    def ok(self) -> bool:
+        """True when the backend produced text without error."""
+        return self.error is None
