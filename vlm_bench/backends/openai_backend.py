@@ -3,6 +3,10 @@
 Images go as base64 PNG data URLs. Requests run concurrently in a thread pool; connection
 errors, timeouts, 408/409/429 and 5xx answers are retried with exponential backoff, then
 recorded in the result. ``openai`` is imported only when the backend is built.
+
+Constrained decoding sends ``response_format={"type": "json_schema", ...}`` with the request's
+schema as is (non-strict). vLLM, SGLang and LMDeploy accept the plan schema's array root; hosted
+APIs whose strict mode wants an object root answer 400, which is recorded per request.
 """
 
 from __future__ import annotations

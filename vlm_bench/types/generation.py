@@ -93,7 +93,7 @@ class GenerationResult(Frozen):
     )
 
     @model_validator(mode="after")
-    def _error_has_no_text(self) -> GenerationResult:
+    def _error_not_blank(self) -> GenerationResult:
         if self.error is not None and self.error == "":
             raise ValueError("error must be None or a non-empty message")
         return self
