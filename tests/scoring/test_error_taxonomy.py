@@ -10,7 +10,7 @@ from vlm_bench.scoring import align, classify_errors
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 from vlm_bench.types.scores import ErrorType as E
 
-GT = [
+GT: list[UavStep | ArmStep] = [
     UavStep(direction=Direction.LEFT),
     ArmStep(object="cube", skill="pick"),
     UavStep(direction=Direction.FRONT),

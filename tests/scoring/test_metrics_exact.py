@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from typing import Any
 
 import pytest
@@ -27,13 +28,16 @@ def arm(skill: str, obj: str, target: str | None = None) -> dict[str, Any]:
     return step | ({"target": target} if target else {})
 
 
-def score(pred: list[Any], gt: list[UavStep | ArmStep], **config: Any) -> PlanScores:
+def score(pred: list[Any], gt: Sequence[UavStep | ArmStep], **config: Any) -> PlanScores:
     return score_plan(parse_plan(json.dumps(pred), IDS), gt, ScoringConfig(**config))
 
 
-PAPER_GT = [UavStep(direction=D.FRONTLEFT), ArmStep(object="rubiks_cube", skill="pick")]
+PAPER_GT: list[UavStep | ArmStep] = [
+    UavStep(direction=D.FRONTLEFT),
+    ArmStep(object="rubiks_cube", skill="pick"),
+]
 # N = 3: front, pick cube, place basket.
-GT3 = [
+GT3: list[UavStep | ArmStep] = [
     UavStep(direction=D.FRONT),
     ArmStep(object="cube", skill="pick"),
     ArmStep(object="basket", skill="place"),
@@ -103,7 +107,7 @@ def test_neighbour_credit_is_configurable() -> None:
 
 
 def test_hallucinated_object() -> None:
-    gt = [
+    gt: list[UavStep | ArmStep] = [
         UavStep(direction=D.LEFT),
         ArmStep(object="cube", skill="pick"),
         UavStep(direction=D.FRONT),
@@ -190,7 +194,7 @@ def test_unknown_tasktype_step_in_place() -> None:
 
 
 def test_invalid_uav_step_occupies_its_index() -> None:
-    gt = [
+    gt: list[UavStep | ArmStep] = [
         UavStep(direction=D.LEFT),
         ArmStep(object="cube", skill="pick"),
         UavStep(direction=D.FRONT),
@@ -237,7 +241,10 @@ def test_distance_is_ignored_by_succ() -> None:
 
 
 def test_push_target_counts_as_an_object_reference() -> None:
-    gt = [UavStep(direction=D.UP), ArmStep(object="cube", skill="push", target="basket")]
+    gt: list[UavStep | ArmStep] = [
+        UavStep(direction=D.UP),
+        ArmStep(object="cube", skill="push", target="basket"),
+    ]
     s = score([uav("up"), arm("push", "cube", "yellow_basket")], gt)
     # R = {cube, basket}, Q = {cube, yellow_basket}: M_obj = 1, K_obj = 1 → 0
     assert (s.m_obj, s.k_obj, s.n_obj) == (1, 1, 2) and s.s_obj == 0
@@ -245,7 +252,7 @@ def test_push_target_counts_as_an_object_reference() -> None:
 
 
 def test_empty_gt_policy_for_a_plan_without_moves() -> None:
-    gt = [ArmStep(object="cube", skill="pick")]
+    gt: list[UavStep | ArmStep] = [ArmStep(object="cube", skill="pick")]
     assert score([arm("pick", "cube")], gt).s_loc == 100  # none expected, none given
     assert score([uav("left"), arm("pick", "cube")], gt).s_loc == 0  # strict: extra move
     relaxed = score([uav("left"), arm("pick", "cube")], gt, empty_gt=EmptyGtPolicy.FULL)
@@ -253,7 +260,7 @@ def test_empty_gt_policy_for_a_plan_without_moves() -> None:
 
 
 def test_empty_gt_policy_for_a_plan_without_arm_steps() -> None:
-    gt = [UavStep(direction=D.UP)]
+    gt: list[UavStep | ArmStep] = [UavStep(direction=D.UP)]
     exact = score([uav("up")], gt)
     assert (exact.s_obj, exact.s_skill, exact.s_total) == (100, 100, 100) and exact.succ
     extra = score([uav("up"), arm("pick", "cube")], gt)
