@@ -27,6 +27,10 @@ GRIPPER_ACTUATOR = "panda_gripper"
 TCP_SITE = "panda_tcp"
 GRIPPER_OPEN = 0.04  # finger joint position (m) per finger when fully open
 ARM_HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)  # Panda "ready" pose (rad)
+# Compact, contact-free flight pose of the hanging arm: folded back and up beside the mount,
+# clear of the `uav` camera; lowest point is the shoulder (0.49 m below the UAV origin).
+ARM_STOW = (0.0, -1.71, 2.53, -2.18, 0.0, 0.37, 0.0)
+GRIPPER_CLOSED = 0.0  # finger joint position (m) when fully closed
 
 # Cameras (stable names, SPEC §2).
 CAM_UAV = "uav"
