@@ -1,0 +1,182 @@
+"""End-to-end CLI: run (oracle ceiling, random floor), refusals, rescore, score."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import typer
+from filelock import FileLock
+from typer.testing import CliRunner
+
+from vlm_bench.catalog.tasks import all_tasks
+from vlm_bench.episodes import make_episode
+from vlm_bench.storage import latest_records
+from vlm_bench.types.plan import UavStep, plan_to_json
+
+ROOT = Path(__file__).resolve().parents[2]
+FEW = ("standard_pick_place", "target_color_yellow", "synonym_block_bin", "tower_stacking")
+METRICS = ["S_plan", "S_loc", "S_obj", "S_skill", "S_total", "Succ"]
+
+
+def _app() -> typer.Typer:
+    from vlm_bench.cli.main import _register, app
+
+    if not any(c.name == "run" or getattr(c.callback, "__name__", "") == "run"
+               for c in app.registered_commands):
+        _register()
+    return app
+
+
+def _invoke(*args: str) -> str:
+    result = CliRunner().invoke(_app(), list(args), catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    return result.output
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess[str]:
+    """The real console entry point (one-line errors, exit codes)."""
+    code = "from vlm_bench.cli.main import main; main()"
+    return subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True,
+                          cwd=ROOT, timeout=120, check=False)
+
+
+def _run_args(out: Path, model: str, tasks: tuple[str, ...], seeds: str = "0-1") -> list[str]:
+    args = ["run", "--model", model, "--seeds", seeds, "--resolution", "64", "--out", str(out),
+            "--no-progress"]
+    for task in tasks:
+        args += ["--task", task]
+    return args
+
+
+def test_oracle_run_scores_100_everywhere(tmp_path: Path) -> None:
+    out = tmp_path / "oracle"
+    printed = _invoke(*_run_args(out, "oracle", FEW))
+    summary = pd.read_csv(out / "summary.csv")
+    assert set(summary.instruction) == {"explicit", "implicit", "both"}
+    assert set(summary.suite) == {"base_manipulation", "object_spatial",
+                                  "semantic_understanding", "long_horizon", "overall"}
+    assert (summary[METRICS] == 100.0).all().all(), summary
+    overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
+    assert overall.n == len(FEW) * 2 * 2 and overall.n_error == 0
+    records = latest_records(out / "records.jsonl")
+    assert len(records) == 16 and all(r.parse is not None and r.parse.tier == "valid"
+                                      for r in records)
+    assert "BM" in printed and "Overall" in printed and "summary.md" in printed
+    assert (out / "summary.md").read_text().count("| oracle |") == 3
+
+
+def test_random_run_scores_far_below(tmp_path: Path) -> None:
+    out = tmp_path / "random"
+    _invoke(*_run_args(out, "random", FEW))
+    summary = pd.read_csv(out / "summary.csv")
+    overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
+    assert overall.S_total < 60.0 and overall.Succ <= 10.0, overall
+
+
+@pytest.mark.slow
+def test_oracle_full_sweep_all_60_tasks(tmp_path: Path) -> None:
+    out = tmp_path / "full"
+    _invoke("run", "--model", "oracle", "--seeds", "0-1", "--resolution", "32", "--out",
+            str(out), "--no-progress", "--batch-size", "16")
+    summary = pd.read_csv(out / "summary.csv")
+    assert (summary[METRICS] == 100.0).all().all()
+    overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
+    assert overall.n == len(all_tasks()) * 2 * 2 == 240
+
+
+def test_mismatched_config_and_second_writer_are_refused(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    _invoke(*_run_args(out, "oracle", FEW[:1], seeds="0"))
+    refused = _cli(*_run_args(out, "oracle", FEW[:1], seeds="0-1"), "--max-new-tokens", "64")
+    assert refused.returncode == 2
+    lines = refused.stderr.strip().splitlines()
+    assert len(lines) == 1 and "different configuration" in lines[0], refused.stderr
+    assert "seeds" in lines[0] and "generation.max_new_tokens" in lines[0]
+    lock = FileLock(str(out / ".lock"), timeout=0)
+    with lock:
+        locked = _cli(*_run_args(out, "oracle", FEW[:1], seeds="0"))
+    assert locked.returncode == 2
+    assert locked.stderr.strip().startswith("error: ") and "another vlm-bench process" in (
+        locked.stderr)
+    assert len(locked.stderr.strip().splitlines()) == 1
+    assert len(latest_records(out / "records.jsonl")) == 2
+
+
+def test_rescore_command_rewrites_records_and_summary(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    _invoke(*_run_args(out, "oracle", FEW[:2], seeds="0"))
+    before = [r.without_timing() for r in latest_records(out / "records.jsonl")]
+    (out / "summary.csv").unlink()
+    printed = _invoke("rescore", str(out))
+    assert "0 record(s) changed" in printed
+    assert [r.without_timing() for r in latest_records(out / "records.jsonl")] == before
+    assert (pd.read_csv(out / "summary.csv")[METRICS] == 100.0).all().all()
+
+
+def test_score_command_json(tmp_path: Path) -> None:
+    episode = make_episode("standard_pick_place", 1)
+    gt = plan_to_json(episode.gt_plan)
+    first_move = next(i for i, s in enumerate(episode.gt_plan) if isinstance(s, UavStep))
+    step = episode.gt_plan[first_move]
+    assert isinstance(step, UavStep) and step.direction.is_horizontal
+    order = ["front", "frontleft", "left", "backleft", "back", "backright", "right", "frontright"]
+    neighbour = order[(order.index(step.direction.value) + 1) % 8]
+    predicted = [dict(s) for s in gt]
+    predicted[first_move]["direction"] = neighbour
+    output = tmp_path / "out.txt"
+    output.write_text("Sure! Here is the plan:\n```json\n" + json.dumps(predicted) + "\n```\n")
+    data = json.loads(_invoke("score", "standard_pick_place", "--seed", "1", "--instruction",
+                              "implicit", "--output", str(output), "--json"))
+    assert (data["task_id"], data["seed"], data["instruction"]) == (
+        "standard_pick_place", 1, "implicit")
+    assert data["parse"]["tier"] == "repaired" and data["gt_plan"] == gt
+    n_move = sum(s["tasktype"] == "UAV" for s in gt)
+    scores = data["scores"]
+    assert scores["s_loc"] == pytest.approx((40.0 + 100.0 * (n_move - 1)) / n_move)
+    assert scores["s_plan"] == scores["s_obj"] == scores["s_skill"] == 100.0
+    assert scores["succ"] is False and "wrong_direction" in data["error_tags"]
+    assert data["plan"] == predicted
+    text = _invoke("score", "standard_pick_place", "--seed", "1", "--output", str(output))
+    assert "wrong_direction" in text and "repaired" in text
+
+
+def test_score_command_user_errors_are_one_line(tmp_path: Path) -> None:
+    missing = _cli("score", "standard_pick_place", "--output", str(tmp_path / "nope.txt"))
+    assert missing.returncode == 2 and missing.stderr.count("\n") == 1
+    assert "cannot read" in missing.stderr
+    bad_task = _cli("score", "no_such_task", "--output", str(ROOT / "pyproject.toml"))
+    assert bad_task.returncode == 2 and "unknown task 'no_such_task'" in bad_task.stderr
+
+
+def test_run_option_errors_are_one_line(tmp_path: Path) -> None:
+    bad = _cli("run", "--model", "oracle", "--views", "uav,top", "--out", str(tmp_path / "x"))
+    assert bad.returncode == 2 and "unknown camera view 'top'" in bad.stderr
+    both = _cli("run", "--model", "oracle", "--task", "standard_pick_place", "--suite", "lh",
+                "--out", str(tmp_path / "y"))
+    assert both.returncode == 2 and "not both" in both.stderr
+    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+
+
+def test_planning_help_and_api_import_stay_light() -> None:
+    code = (
+        "import sys\n"
+        "from typer.testing import CliRunner\n"
+        "from vlm_bench.cli.main import app, _register\n"
+        "import vlm_bench.api\n"
+        "_register()\n"
+        "for cmd in ('run', 'rescore', 'score'):\n"
+        "    r = CliRunner().invoke(app, [cmd, '--help'])\n"
+        "    assert r.exit_code == 0, r.output\n"
+        "heavy = ('torch', 'transformers', 'mujoco', 'pandas', 'vlm_bench.sim',\n"
+        "         'vlm_bench.runner')\n"
+        "print(','.join(m for m in heavy if m in sys.modules))\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            cwd=ROOT, check=False, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "", f"imported: {result.stdout}"

@@ -1,0 +1,90 @@
+"""SIGKILL a CLI run mid-way, re-run the same command: the folder ends like an uninterrupted run."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from vlm_bench.storage import latest_records, read_records
+
+ROOT = Path(__file__).resolve().parents[2]
+TASKS = ("standard_pick_place", "deformable_object_banana", "cylinder_manipulation",
+         "target_color_yellow", "small_object_bolt", "synonym_block_bin", "material_tin",
+         "superlative_highest", "color_matched_sorting", "tower_stacking")
+TOTAL = len(TASKS) * 2 * 2
+
+
+def _command(out: Path) -> list[str]:
+    args = [sys.executable, "-c", "from vlm_bench.cli.main import main; main()", "run",
+            "--model", "oracle", "--seeds", "0-1", "--resolution", "48", "--batch-size", "1",
+            "--out", str(out), "--no-progress"]
+    for task in TASKS:
+        args += ["--task", task]
+    return args
+
+
+def _lines(path: Path) -> int:
+    try:
+        return path.read_bytes().count(b"\n")
+    except FileNotFoundError:
+        return 0
+
+
+def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> None:
+    killed_dir = tmp_path / "killed" / "run"
+    clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
+    # Snapshot caches beside each run folder: the clean run renders everything itself.
+    env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
+    proc = subprocess.Popen(_command(killed_dir), cwd=ROOT, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    records = killed_dir / "records.jsonl"
+    deadline = time.monotonic() + 50
+    while _lines(records) < 3 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    assert proc.poll() is None, "the run ended before it could be killed"
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    at_kill = _lines(records)
+    assert 3 <= at_kill < TOTAL, at_kill
+
+    resumed = subprocess.run(_command(killed_dir), cwd=ROOT, env=env, capture_output=True,
+                             text=True, timeout=120, check=False)
+    assert resumed.returncode == 0, resumed.stderr
+    assert "resumed" in resumed.stdout
+    clean = subprocess.run(_command(clean_dir), cwd=ROOT, env=env, capture_output=True,
+                           text=True, timeout=120, check=False)
+    assert clean.returncode == 0, clean.stderr
+
+    got = [r.without_timing() for r in latest_records(records)]
+    want = [r.without_timing() for r in latest_records(clean_dir / "records.jsonl")]
+    assert len(got) == TOTAL and got == want
+    # Nothing was evaluated twice: one line per episode (a torn line, if any, was cut off).
+    assert len(read_records(records)) == TOTAL
+    assert records.read_bytes().endswith(b"\n")
+
+
+def test_ctrl_c_exits_130_with_a_resume_hint(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    command = _command(out)
+    proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    records = out / "records.jsonl"
+    deadline = time.monotonic() + 50
+    while _lines(records) < 2 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stderr and "re-run the same command to resume" in stderr
+    assert "Traceback" not in stderr
+    done = len(read_records(records))  # every line written is a complete record
+    assert 2 <= done < TOTAL
+    resumed = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=120,
+                             check=False)
+    assert resumed.returncode == 0, resumed.stderr
+    assert len(latest_records(records)) == TOTAL

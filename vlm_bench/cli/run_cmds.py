@@ -1,0 +1,170 @@
+"""Planning commands: run, rescore, score. Heavy imports happen inside the commands."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any
+
+import typer
+from rich.console import Console
+
+from vlm_bench.cli.options import parse_seed, parse_seeds, parse_suite, parse_variant
+from vlm_bench.errors import ConfigError, UnknownNameError
+
+if TYPE_CHECKING:
+    from vlm_bench.api import RunResult
+    from vlm_bench.types.task import InstructionVariant
+
+console = Console()
+_VIEWS = ("uav", "wrist", "overhead", "side")
+
+
+def parse_views(text: str) -> tuple[str, ...]:
+    """Comma-separated camera views, e.g. ``uav,wrist``."""
+    views = tuple(v.strip().lower() for v in text.split(",") if v.strip())
+    if not views:
+        raise ConfigError("no views given; valid: " + ", ".join(_VIEWS))
+    for view in views:
+        if view not in _VIEWS:
+            raise UnknownNameError("camera view", view, _VIEWS)
+    return views
+
+
+def parse_instructions(text: str) -> tuple[InstructionVariant, ...]:
+    """``explicit``, ``implicit`` or ``both``."""
+    if text.strip().lower() == "both":
+        return ("explicit", "implicit")
+    return (parse_variant(text),)
+
+
+def _print_summary(result: RunResult) -> None:
+    from vlm_bench.report import summary_rich
+
+    console.print(summary_rich(result.summary, title=result.run_id, width=console.width))
+    stats = result.stats
+    line = f"{result.run_dir}: summary.md, summary.csv, records.jsonl ({stats['total']} episodes"
+    if stats.get("skipped"):
+        line += f", {stats['skipped']} resumed"
+    if stats.get("cached"):
+        line += f", {stats['cached']} from the response cache"
+    console.print(line + ")", highlight=False, soft_wrap=True)
+    errors = sum(1 for r in result.records if not r.ok)
+    if errors:
+        console.print(f"[yellow]{errors} episode(s) failed in the backend; re-run the same "
+                      "command to retry them[/]", soft_wrap=True)
+
+
+def run(
+    model: Annotated[str, typer.Option(help="HF id/path, openai/<name>, vllm/<id>, oracle, "
+                                            "random, mock.")],
+    task: Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")] = None,
+    suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")] = None,
+    seeds: Annotated[str, typer.Option(help="Seeds: 0-9 or 0,3,5.")] = "0",
+    instruction: Annotated[str, typer.Option(help="explicit, implicit or both.")] = "both",
+    views: Annotated[str, typer.Option(help="Views shown, comma-separated.")] = ",".join(_VIEWS),
+    resolution: Annotated[int, typer.Option(help="Snapshot side in pixels.")] = 448,
+    k_shot: Annotated[int, typer.Option(help="Few-shot examples in the prompt.")] = 2,
+    no_object_list: Annotated[bool, typer.Option(
+        "--no-object-list", help="Do not list the scene's object ids.")] = False,
+    constrained: Annotated[bool, typer.Option(
+        help="JSON-schema constrained decoding.")] = False,
+    model_arg: Annotated[list[str] | None, typer.Option(
+        "--model-arg", "-M", help="Backend argument key=value (repeatable).")] = None,
+    batch_size: Annotated[int, typer.Option(help="Requests per generate call.")] = 8,
+    max_new_tokens: Annotated[int, typer.Option(help="Most tokens generated.")] = 512,
+    temperature: Annotated[float, typer.Option(help="0 = greedy.")] = 0.0,
+    run_name: Annotated[str | None, typer.Option(help="Folder name under results/.")] = None,
+    out: Annotated[Path | None, typer.Option(help="Run folder (instead of --run-name).")] = None,
+    no_snapshot_cache: Annotated[bool, typer.Option(
+        "--no-snapshot-cache", help="Render every episode (no shared PNG cache).")] = False,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+) -> None:
+    """Evaluate a model as a planner; resumes the run folder if it exists."""
+    from pydantic import ValidationError
+
+    from vlm_bench.api import run as api_run
+    from vlm_bench.api import run_dir_for
+    from vlm_bench.backends import parse_model_args
+    from vlm_bench.types.generation import GenerationConfig
+    from vlm_bench.types.run import run_config
+
+    try:
+        generation = GenerationConfig(max_new_tokens=max_new_tokens, temperature=temperature,
+                                      constrained=constrained, batch_size=batch_size)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        raise ConfigError(f"invalid option {err['loc'][0]}: {err['msg']}") from None
+    config = run_config(
+        model=model, backend_args=parse_model_args(model_arg or []), tasks=tuple(task or ()),
+        suite=parse_suite(suite), seeds=tuple(parse_seeds(seeds)),
+        instructions=parse_instructions(instruction), views=parse_views(views),
+        resolution=resolution, k_shot=k_shot, object_list=not no_object_list,
+        generation=generation,
+    )
+    run_dir = run_dir_for(config, out, run_name)
+    try:
+        result = api_run(config, out=run_dir, snapshot_cache=not no_snapshot_cache,
+                         progress=progress)
+    except KeyboardInterrupt:
+        print(f"interrupted: finished episodes are saved in {run_dir}; re-run the same "
+              "command to resume", file=sys.stderr)
+        raise typer.Exit(130) from None
+    _print_summary(result)
+
+
+def rescore(
+    run_dir: Annotated[str, typer.Argument(
+        metavar="RUN", help="Run folder, or a name under results/.")],
+) -> None:
+    """Recompute parses and scores from the response cache (no model calls)."""
+    from vlm_bench.api import rescore as api_rescore
+    from vlm_bench.resources import results_dir
+
+    path = Path(run_dir)
+    if not path.exists() and (results_dir() / run_dir).exists():
+        path = results_dir() / run_dir
+    result = api_rescore(path)
+    _print_summary(result)
+    console.print(f"{result.stats['changed']} record(s) changed", highlight=False)
+
+
+def _score_text(data: dict[str, Any]) -> None:
+    scores = data["scores"]
+    console.print(f"[bold]{data['task_id']}[/] seed {data['seed']} · {data['instruction']} · "
+                  f"parse: {data['parse']['tier']}")
+    console.print("plan:    " + json.dumps(data["plan"]), highlight=False, soft_wrap=True)
+    console.print("GT plan: " + json.dumps(data["gt_plan"]), highlight=False, soft_wrap=True)
+    console.print("  ".join(f"{k}={scores[k]:.1f}" for k in
+                            ("s_plan", "s_loc", "s_obj", "s_skill", "s_total"))
+                  + f"  succ={scores['succ']}", highlight=False)
+    console.print("errors: " + (", ".join(data["error_tags"]) or "none"), highlight=False)
+
+
+def score(
+    task: Annotated[str, typer.Argument(help="Task id.")],
+    output: Annotated[Path, typer.Option(help="File holding the raw model output.")],
+    seed: Annotated[str, typer.Option(help="Episode seed.")] = "0",
+    instruction: Annotated[str, typer.Option(help="explicit or implicit.")] = "explicit",
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Score one raw model output file against an episode's GT plan."""
+    from vlm_bench.api import score_output
+
+    try:
+        text = output.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise ConfigError(f"cannot read {output}: {exc.strerror}") from None
+    data = score_output(task, parse_seed(seed), text, parse_variant(instruction))
+    if as_json:
+        typer.echo(json.dumps(data, indent=1))
+    else:
+        _score_text(data)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the planning commands to ``app``."""
+    app.command()(run)
+    app.command()(rescore)
+    app.command()(score)

@@ -1,0 +1,112 @@
+"""The paper's planning table (AIR-VLA Table "VLM task planning"): long and wide forms.
+
+Aggregation, documented once here:
+
+* A **suite cell** (model × instruction × suite) is the mean over that cell's episodes; ``Succ``
+  is the share of exact plans in percent.
+* **Overall** (``suite == "overall"``) is the *unweighted mean of the suite cells* of the row,
+  like the paper's "Overall Average" (which averages its suite columns; suites have 20/15/15/10
+  tasks, so this differs from a mean over episodes when the suites are all present).
+* **Instruction ``both``** averages the explicit and implicit cells of each suite with equal
+  weight; its overall is again the mean of its suite cells, i.e. the paper's per-model overall.
+* Records whose backend failed (``status == "error"``) are left out of the means and counted in
+  ``n_error``; a resume retries them. A suite cell with no answered episode is NaN, and so are
+  the overall and ``both`` values built from it (they would otherwise cover fewer suites).
+"""
+
+from __future__ import annotations
+
+import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
+
+from vlm_bench.report.frame import METRICS
+from vlm_bench.types.task import Suite
+
+OVERALL = "overall"
+"""``suite`` value of overall rows."""
+BOTH = "both"
+"""``instruction`` value of rows that average the two instruction variants."""
+VALUES = (*METRICS, "Succ")
+"""Value columns of the summary, in the paper's order."""
+SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error")
+"""Columns of :func:`summary_long` (and ``summary.csv``)."""
+
+SUITE_ORDER = [s.value for s in Suite]
+INSTRUCTION_ORDER = ["explicit", "implicit", BOTH]
+
+
+def _cells(frame: pd.DataFrame, by: str) -> pd.DataFrame:
+    ok = frame[frame["status"] == "ok"].copy()
+    ok["Succ"] = ok["Succ"].astype(float) * 100.0
+    keys = [by, "instruction", "suite"]
+    cells = ok.groupby(keys, sort=False)[list(VALUES)].mean()
+    cells["n"] = ok.groupby(keys, sort=False).size()
+    errors = frame[frame["status"] != "ok"].groupby(keys, sort=False).size()
+    cells = cells.join(errors.rename("n_error"), how="outer")
+    cells[["n", "n_error"]] = cells[["n", "n_error"]].fillna(0).astype(int)
+    return cells.reset_index()
+
+
+def _overall(cells: pd.DataFrame, by: str) -> pd.DataFrame:
+    grouped = cells.groupby([by, "instruction"], sort=False)
+    # A cell whose episodes all failed is NaN and makes the overall NaN: an overall must cover
+    # the same suites to be comparable (resume to retry the failures).
+    out = grouped[list(VALUES)].agg(lambda col: col.mean(skipna=False))
+    out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    out = out.reset_index()
+    out["suite"] = OVERALL
+    return out
+
+
+def _both(cells: pd.DataFrame, by: str) -> pd.DataFrame:
+    multi = cells.groupby(by)["instruction"].transform("nunique") > 1
+    grouped = cells[multi].groupby([by, "suite"], sort=False)
+    out = grouped[list(VALUES)].agg(lambda col: col.mean(skipna=False))
+    out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    out = out.reset_index()
+    out["instruction"] = BOTH
+    return out
+
+
+def summary_long(frame: pd.DataFrame, by: str = "model") -> pd.DataFrame:
+    """Suite cells plus overall and ``both`` rows (see the module docstring).
+
+    Args:
+        frame: Episode rows from :func:`vlm_bench.report.frame.records_frame`.
+        by: Column that names a table row's system (``model``, or ``run_id`` to compare
+            ablations of one model).
+
+    Returns:
+        Columns :data:`SUMMARY_COLUMNS` (with ``by`` in place of ``model``), rows ordered by
+        system (first appearance), instruction (explicit, implicit, both), suite (paper order,
+        overall last).
+    """
+    columns = [by, *SUMMARY_COLUMNS[1:]]
+    if frame.empty:
+        return pd.DataFrame(columns=columns)
+    cells = _cells(frame, by)
+    both = _both(cells, by)
+    suite_rows = pd.concat([cells, both], ignore_index=True) if not both.empty else cells
+    table = pd.concat([suite_rows, _overall(suite_rows, by)], ignore_index=True)
+    systems = list(dict.fromkeys(frame[by]))
+    table["_s"] = table[by].map(systems.index)
+    table["_i"] = table["instruction"].map(INSTRUCTION_ORDER.index)
+    table["_u"] = table["suite"].map(lambda s: len(SUITE_ORDER) if s == OVERALL
+                                     else SUITE_ORDER.index(s))
+    table = table.sort_values(["_s", "_i", "_u"], kind="stable")
+    return table[columns].reset_index(drop=True)
+
+
+def summary_wide(long: pd.DataFrame, by: str = "model") -> pd.DataFrame:
+    """The paper layout: rows system × instruction; columns (suite, metric) then overall.
+
+    Column labels are ``(suite value or "overall", metric)`` tuples; only suites present appear.
+    """
+    if long.empty:
+        return pd.DataFrame()
+    wide = long.pivot_table(index=[by, "instruction"], columns="suite", values=list(VALUES),
+                            sort=False, dropna=False)
+    suites = [s for s in [*SUITE_ORDER, OVERALL] if s in set(long["suite"])]
+    wide = wide.swaplevel(0, 1, axis=1)
+    wide = wide.reindex(columns=pd.MultiIndex.from_product([suites, list(VALUES)]))
+    rows = list(dict.fromkeys(zip(long[by], long["instruction"], strict=True)))
+    return wide.reindex(pd.MultiIndex.from_tuples(rows, names=[by, "instruction"]))

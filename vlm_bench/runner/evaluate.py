@@ -1,0 +1,79 @@
+"""Model text → parse → plan → scores → episode record. Never raises on model output."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from vlm_bench.parsing import parse_plan
+from vlm_bench.scoring import score_plan
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.parse import ParseResult
+from vlm_bench.types.plan import plan_to_json
+from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.scores import PlanScores, ScoringConfig
+from vlm_bench.types.task import InstructionVariant
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """What one model output amounts to for one episode."""
+
+    parse: ParseResult
+    plan: list[dict[str, Any]]
+    scores: PlanScores
+    error_tags: tuple[str, ...]
+
+
+def evaluate_output(text: str, episode: Episode, scoring: ScoringConfig) -> Evaluation:
+    """Parse ``text`` against the episode's object ids and score it against its GT plan.
+
+    Returns:
+        The parse result, the valid predicted steps in the paper's JSON format, the scores and
+        the error tags: parser codes, then planning error types (duplicates removed).
+    """
+    parsed = parse_plan(text, episode.object_ids())
+    scores = score_plan(parsed, episode.gt_plan, scoring)
+    tags = dict.fromkeys(str(code) for code in parsed.all_errors())
+    tags.update(dict.fromkeys(str(err) for err in scores.error_types))
+    return Evaluation(parsed, plan_to_json(parsed.valid_steps()), scores, tuple(tags))
+
+
+@dataclass(frozen=True)
+class EpisodeInfo:
+    """Identity of an episode within a run (what every record of it repeats)."""
+
+    run_id: str
+    key: str
+    variant: InstructionVariant
+    model: str
+    prompt_hash: str
+
+
+def scored_record(
+    info: EpisodeInfo, episode: Episode, response: CachedResponse, scoring: ScoringConfig,
+    *, cached: bool = False,
+) -> EpisodeRecord:
+    """The ``ok`` record of an episode the model answered."""
+    ev = evaluate_output(response.text, episode, scoring)
+    return EpisodeRecord(
+        run_id=info.run_id, key=info.key, task_id=episode.task_id, suite=episode.suite,
+        seed=episode.seed, variant=info.variant, model=info.model, prompt_hash=info.prompt_hash,
+        raw_output=response.text, parse=ev.parse, plan=ev.plan,
+        gt_plan=plan_to_json(episode.gt_plan), scores=ev.scores, error_tags=ev.error_tags,
+        latency_s=response.latency_s, prompt_tokens=response.prompt_tokens,
+        completion_tokens=response.completion_tokens, finish_reason=response.finish_reason,
+        cached=cached, status="ok",
+    )
+
+
+def error_record(
+    info: EpisodeInfo, episode: Episode, error: str, latency_s: float = 0.0
+) -> EpisodeRecord:
+    """The ``error`` record of an episode the backend failed to answer (retried on resume)."""
+    return EpisodeRecord(
+        run_id=info.run_id, key=info.key, task_id=episode.task_id, suite=episode.suite,
+        seed=episode.seed, variant=info.variant, model=info.model, prompt_hash=info.prompt_hash,
+        gt_plan=plan_to_json(episode.gt_plan), latency_s=latency_s, backend_error=error,
+        error_tags=("backend_error",), status="error",
+    )

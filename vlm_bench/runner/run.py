@@ -1,0 +1,122 @@
+"""Run a configuration into a run folder: create or resume, evaluate pending episodes, close."""
+
+from __future__ import annotations
+
+import platform
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+from vlm_bench.backends import Backend, resolve_backend, split_model
+from vlm_bench.errors import ConfigError
+from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
+from vlm_bench.runner.progress import progress_bar
+from vlm_bench.runner.selection import select_episodes
+from vlm_bench.runner.snapshots import SnapshotSource
+from vlm_bench.storage import (
+    RunStore,
+    SnapshotCache,
+    data_hashes,
+    default_snapshot_cache,
+    git_revision,
+    package_versions,
+)
+from vlm_bench.storage.provenance import machine
+from vlm_bench.types.records import EpisodeRecord, utc_now
+from vlm_bench.types.run import RunConfig, RunManifest
+
+
+@dataclass(frozen=True)
+class RunOutcome:
+    """What a run (or resume) left in its folder."""
+
+    run_dir: Path
+    manifest: RunManifest
+    records: tuple[EpisodeRecord, ...]
+    """The latest record of every episode of the folder, in run order."""
+    stats: PipelineStats
+
+
+def make_manifest(config: RunConfig, backend_name: str) -> Callable[[str], RunManifest]:
+    """A builder of the run's manifest for a run id (provenance is gathered when called)."""
+
+    def build(run_id: str) -> RunManifest:
+        return RunManifest(
+            run_id=run_id, config=config.redacted(), config_hash=config.config_hash(),
+            backend=backend_name, data=data_hashes(), packages=package_versions(),
+            git_revision=git_revision(), python=platform.python_version(),
+            platform=machine(), created=utc_now(),
+        )
+
+    return build
+
+
+class _LazyBackend:
+    """Builds the backend on first use (a finished resume never loads the model)."""
+
+    def __init__(self, config: RunConfig, given: Backend | None) -> None:
+        self.config = config
+        self.backend = given
+        self.owned = given is None
+
+    def __call__(self) -> Backend:
+        if self.backend is None:
+            self.backend = resolve_backend(self.config.model, self.config.backend_args)
+        return self.backend
+
+    def close(self) -> None:
+        if self.owned and self.backend is not None:
+            self.backend.close()
+
+
+@contextmanager
+def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[SnapshotSource]:
+    cache = SnapshotCache(cache_dir) if cache_dir is not None else None
+    source = SnapshotSource(config.views, config.resolution, config.labels, cache)
+    try:
+        yield source
+    finally:
+        source.close()
+
+
+def execute_run(
+    config: RunConfig,
+    run_dir: Path,
+    *,
+    backend: Backend | None = None,
+    snapshot_cache: Path | bool | None = True,
+    progress: bool = True,
+) -> RunOutcome:
+    """Evaluate the configuration's episodes into ``run_dir``, resuming what is there.
+
+    Args:
+        config: The run configuration.
+        run_dir: The run folder (created if missing).
+        backend: A backend instance to use instead of resolving ``config.model``.
+        snapshot_cache: Folder of the shared PNG cache; True = the default
+            (:func:`~vlm_bench.storage.default_snapshot_cache`), False/None = no cache.
+        progress: Show a progress bar on stderr.
+
+    Raises:
+        ConfigError: Invalid options (e.g. ``execute``, not available yet).
+        UnknownNameError: Unknown task ids.
+        RunLockedError: Another process writes the folder.
+        ConfigMismatchError: The folder holds a run with another configuration.
+    """
+    if config.execute:
+        raise ConfigError("plan execution in the simulator (execute) is not available yet")
+    refs = select_episodes(config)
+    backend_name = backend.name if backend is not None else split_model(config.model)[0]
+    cache_dir = (default_snapshot_cache(run_dir) if snapshot_cache is True
+                 else snapshot_cache or None)
+    lazy = _LazyBackend(config, backend)
+    with RunStore.create_or_resume(run_dir, config, make_manifest(config, backend_name)) as store, \
+            _snapshot_source(config, cache_dir) as snapshots, \
+            progress_bar(len(refs), f"{store.paths.run_id}", enabled=progress) as advance:
+        try:
+            stats = EpisodePipeline(config, store, lazy, snapshots, advance).run(refs)
+        finally:
+            lazy.close()
+        records = tuple(store.records[r.key] for r in refs if r.key in store.records)
+        return RunOutcome(store.paths.root, store.manifest, records, stats)

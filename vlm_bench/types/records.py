@@ -1,0 +1,112 @@
+"""Episode records (one JSON line of ``records.jsonl``) and cached model responses.
+
+Records are read back by every later release: loading is tolerant (unknown fields are ignored,
+fields added later have defaults) and :func:`migrate_record` upgrades older layouts by
+``schema_version`` before validation.
+"""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from vlm_bench.types.parse import ParseResult
+from vlm_bench.types.scores import PlanScores
+from vlm_bench.types.task import InstructionVariant, Suite
+
+RECORD_SCHEMA_VERSION = 1
+"""Version of the record layout written by this release."""
+
+RecordStatus = Literal["ok", "error"]
+"""``ok``: the model answered and the answer was scored (whatever its quality);
+``error``: the backend failed to answer (server error, timeout); a resume retries it."""
+
+TIMING_FIELDS = frozenset({"latency_s", "created"})
+"""Fields that differ between two otherwise identical runs."""
+
+
+def episode_key(task_id: str, seed: int, variant: str) -> str:
+    """The key of one episode in a run: ``task_id/seed/variant``."""
+    return f"{task_id}/{seed}/{variant}"
+
+
+def utc_now() -> datetime:
+    """The current time in UTC (timestamps of records and manifests)."""
+    return datetime.now(UTC)
+
+
+class Tolerant(BaseModel):
+    """Base of stored models: immutable, ignores fields it does not know (newer writers)."""
+
+    model_config = ConfigDict(frozen=True, extra="ignore")
+
+
+class EpisodeRecord(Tolerant):
+    """The outcome of one episode of a run: what was asked, what came back, how it scored."""
+
+    schema_version: int = Field(default=RECORD_SCHEMA_VERSION, description="Record layout.")
+    run_id: str = Field(description="Run id (the run folder's name).")
+    key: str = Field(description="Episode key task_id/seed/variant, unique within a run.")
+    task_id: str = Field(description="Task id.")
+    suite: Suite = Field(description="Task suite.")
+    seed: int = Field(ge=0, description="Episode seed.")
+    variant: InstructionVariant = Field(description="Instruction variant (explicit/implicit).")
+    model: str = Field(description="Model string of the run.")
+    prompt_hash: str = Field(default="", description="Prompt.prompt_hash of the request.")
+    raw_output: str = Field(default="", description="The model's text, verbatim.")
+    parse: ParseResult | None = Field(default=None, description="Parser result (None on error).")
+    plan: list[dict[str, Any]] | None = Field(
+        default=None, description="Valid predicted steps in the paper's JSON format."
+    )
+    gt_plan: list[dict[str, Any]] = Field(
+        default_factory=list, description="The episode's GT plan in the paper's JSON format."
+    )
+    scores: PlanScores | None = Field(default=None, description="Metrics (None on error).")
+    error_tags: tuple[str, ...] = Field(
+        default=(), description="Parse codes then planning error types, duplicates removed."
+    )
+    latency_s: float = Field(default=0.0, ge=0, description="Backend wall time (s).")
+    prompt_tokens: int | None = Field(default=None, description="Prompt tokens, if known.")
+    completion_tokens: int | None = Field(default=None, description="Generated tokens.")
+    finish_reason: str | None = Field(default=None, description="Why generation stopped.")
+    cached: bool = Field(default=False, description="The answer came from the response cache.")
+    backend_error: str | None = Field(default=None, description="Backend failure, if any.")
+    status: RecordStatus = Field(description="ok or error (see RecordStatus).")
+    created: datetime = Field(default_factory=utc_now, description="When it was written (UTC).")
+
+    @property
+    def ok(self) -> bool:
+        """True when the model answered (the record counts in the metrics)."""
+        return self.status == "ok"
+
+    def without_timing(self) -> dict[str, Any]:
+        """The record as JSON data minus :data:`TIMING_FIELDS` and ``cached`` (comparisons)."""
+        return self.model_dump(mode="json", exclude=set(TIMING_FIELDS) | {"cached"})
+
+
+class CachedResponse(Tolerant):
+    """One line of ``responses.jsonl``: a model answer keyed by episode key and prompt hash."""
+
+    key: str = Field(description="Episode key task_id/seed/variant.")
+    prompt_hash: str = Field(description="Hash of the prompt that produced the answer.")
+    text: str = Field(description="The model's text, verbatim.")
+    latency_s: float = Field(default=0.0, ge=0, description="Backend wall time (s).")
+    prompt_tokens: int | None = Field(default=None, description="Prompt tokens, if known.")
+    completion_tokens: int | None = Field(default=None, description="Generated tokens.")
+    finish_reason: str | None = Field(default=None, description="Why generation stopped.")
+    created: datetime = Field(default_factory=utc_now, description="When it was cached (UTC).")
+
+
+def migrate_record(data: dict[str, Any]) -> dict[str, Any]:
+    """Upgrade a stored record's JSON to the current layout (before validation).
+
+    Version 1 is the first layout, so there is nothing to upgrade yet; a record without
+    ``schema_version`` is read as version 1. A later layout change bumps
+    :data:`RECORD_SCHEMA_VERSION` and adds its upgrade step here, keyed by the stored version.
+    """
+    version = data.get("schema_version", 1)
+    if not isinstance(version, int) or version < 1:
+        raise ValueError(f"schema_version must be a positive integer, got {version!r}")
+    return {**data, "schema_version": version}

@@ -1,0 +1,192 @@
+"""Run configuration and run manifest: what a run evaluates and how it was produced.
+
+A run folder is identified by its :class:`RunConfig`; :meth:`RunConfig.config_hash` covers every
+field that changes an episode's result or the set of episodes. It leaves out what only changes
+how fast results arrive (``generation.batch_size`` and operational backend arguments such as
+``concurrency`` or ``timeout``) and secrets (backend arguments whose name contains ``key``,
+``token``, ``secret`` or ``password``, which are also redacted in the saved manifest), so a run can
+be resumed with a different batch size or a fresh API key.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+from datetime import datetime
+from typing import Any
+
+from pydantic import ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from vlm_bench.errors import ConfigError
+from vlm_bench.types.generation import GenerationConfig
+from vlm_bench.types.prompt import VIEWS, PromptConfig, View
+from vlm_bench.types.scores import ScoringConfig
+from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
+from vlm_bench.types.world import Frozen
+
+RUN_SCHEMA_VERSION = 1
+"""Version of the manifest layout written by this release."""
+
+OPERATIONAL_BACKEND_ARGS = frozenset(
+    {"concurrency", "timeout", "max_retries", "retries", "workers", "device", "device_map"}
+)
+"""Backend arguments that change speed or placement, never results (left out of the hash)."""
+
+_SECRET = re.compile(r"key|token|secret|password", re.IGNORECASE)
+REDACTED = "***"
+
+
+def is_secret_arg(name: str) -> bool:
+    """True for backend arguments that hold credentials (redacted in manifests)."""
+    return bool(_SECRET.search(name))
+
+
+class RunConfig(Frozen):
+    """Everything that defines a run: model, episode selection, prompt, decoding, scoring."""
+
+    model: str = Field(min_length=1, description="Model string: HF id/path, openai/<name>, ...")
+    backend_args: dict[str, str] = Field(
+        default_factory=dict, description="Backend arguments (-M key=value)."
+    )
+    tasks: tuple[str, ...] = Field(default=(), description="Task ids; empty = all (or suite).")
+    suite: Suite | None = Field(default=None, description="Only this suite (when no tasks).")
+    seeds: tuple[int, ...] = Field(default=(0,), min_length=1, description="Episode seeds.")
+    instructions: tuple[InstructionVariant, ...] = Field(
+        default=INSTRUCTION_VARIANTS, min_length=1, description="Instruction variants evaluated."
+    )
+    views: tuple[View, ...] = Field(default=VIEWS, min_length=1, description="Views shown.")
+    resolution: int = Field(default=448, ge=16, le=4096, description="Snapshot side (px).")
+    labels: bool = Field(default=True, description="Draw set-of-marks labels on shared ids.")
+    k_shot: int = Field(default=2, ge=0, description="Few-shot examples in the system prompt.")
+    few_shot_seed: int = Field(default=0, ge=0, description="Seed of the few-shot selection.")
+    object_list: bool = Field(default=True, description="List the scene's object ids.")
+    generation: GenerationConfig = Field(
+        default_factory=GenerationConfig, description="Decoding settings (incl. constrained)."
+    )
+    scoring: ScoringConfig = Field(default_factory=ScoringConfig, description="Metric options.")
+    execute: bool = Field(
+        default=False, description="Reserved: replay plans in the simulator (not available yet)."
+    )
+
+    @field_validator("seeds")
+    @classmethod
+    def _canonical_seeds(cls, seeds: tuple[int, ...]) -> tuple[int, ...]:
+        if any(s < 0 for s in seeds):
+            raise ValueError("seeds must be non-negative")
+        return tuple(sorted(set(seeds)))
+
+    @field_validator("tasks")
+    @classmethod
+    def _unique_tasks(cls, tasks: tuple[str, ...]) -> tuple[str, ...]:
+        return tuple(dict.fromkeys(tasks))
+
+    @field_validator("instructions")
+    @classmethod
+    def _canonical_instructions(
+        cls, variants: tuple[InstructionVariant, ...]
+    ) -> tuple[InstructionVariant, ...]:
+        return tuple(v for v in INSTRUCTION_VARIANTS if v in variants)
+
+    @field_validator("views")
+    @classmethod
+    def _unique_views(cls, views: tuple[View, ...]) -> tuple[View, ...]:
+        if len(set(views)) != len(views):
+            raise ValueError(f"views must be unique, got {list(views)}")
+        return views
+
+    @model_validator(mode="after")
+    def _tasks_or_suite(self) -> RunConfig:
+        if self.tasks and self.suite is not None:
+            raise ValueError("give tasks or a suite, not both")
+        return self
+
+    def prompt_config(self, variant: InstructionVariant) -> PromptConfig:
+        """The prompt options of one instruction variant."""
+        return PromptConfig(
+            k_shot=self.k_shot,
+            few_shot_seed=self.few_shot_seed,
+            views=self.views,
+            object_list=self.object_list,
+            instruction=variant,
+        )
+
+    def hashed_fields(self) -> dict[str, Any]:
+        """The JSON payload :meth:`config_hash` covers (see the module docstring)."""
+        data = self.model_dump(mode="json")
+        data["backend_args"] = {
+            k: v for k, v in sorted(self.backend_args.items())
+            if not is_secret_arg(k) and k not in OPERATIONAL_BACKEND_ARGS
+        }
+        data["generation"].pop("batch_size", None)
+        return data
+
+    def config_hash(self) -> str:
+        """sha256 (hex) of :meth:`hashed_fields` as canonical JSON."""
+        text = json.dumps(self.hashed_fields(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def short_hash(self) -> str:
+        """First 8 hex digits of :meth:`config_hash`, used in default run names."""
+        return self.config_hash()[:8]
+
+    def redacted(self) -> RunConfig:
+        """A copy whose secret backend arguments are replaced by ``***`` (for the manifest)."""
+        args = {k: (REDACTED if is_secret_arg(k) else v) for k, v in self.backend_args.items()}
+        return self.model_copy(update={"backend_args": args})
+
+
+def config_differences(old: RunConfig, new: RunConfig) -> list[str]:
+    """Dotted names of the hashed fields whose values differ (``generation.max_new_tokens``)."""
+    return _diff(old.hashed_fields(), new.hashed_fields(), "")
+
+
+def _diff(a: Any, b: Any, prefix: str) -> list[str]:
+    if isinstance(a, dict) and isinstance(b, dict):
+        out: list[str] = []
+        for key in sorted(set(a) | set(b), key=str):
+            out.extend(_diff(a.get(key), b.get(key), f"{prefix}{key}."))
+        return out
+    return [] if a == b else [prefix.rstrip(".")]
+
+
+def run_config(**fields: Any) -> RunConfig:
+    """Build a :class:`RunConfig`, turning validation errors into a one-line ConfigError.
+
+    Raises:
+        ConfigError: Names the first invalid field and why.
+    """
+    try:
+        return RunConfig(**fields)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(p) for p in err["loc"])
+        msg = str(err["msg"]).removeprefix("Value error, ")
+        raise ConfigError(f"invalid run option {where}: {msg}" if where else msg) from None
+
+
+class DataHashes(Frozen):
+    """sha256 digests of the shipped data folders a run depends on."""
+
+    prompts: str = Field(description="Files under prompts/ (templates, few-shot examples).")
+    skills: str = Field(description="Files under skills/ (the skill library).")
+    ground_truth: str = Field(description="Files under ground_truth/ (tasks, world, GT).")
+
+
+class RunManifest(Frozen):
+    """``manifest.json`` of a run folder: config and provenance, written when the run starts."""
+
+    # Manifests are read back by later releases: ignore fields this release does not know.
+    model_config = ConfigDict(frozen=True, extra="ignore")
+
+    schema_version: int = Field(default=RUN_SCHEMA_VERSION, description="Manifest layout version.")
+    run_id: str = Field(description="Run id (the run folder's name).")
+    config: RunConfig = Field(description="The run's configuration (secrets redacted).")
+    config_hash: str = Field(description="RunConfig.config_hash() at creation.")
+    backend: str = Field(description="Backend that serves the model (hf, openai, oracle, ...).")
+    data: DataHashes = Field(description="Digests of prompts/, skills/, ground_truth/.")
+    packages: dict[str, str] = Field(description="Versions of vlm-bench and key dependencies.")
+    git_revision: str | None = Field(default=None, description="Commit (+dirty) if in a checkout.")
+    python: str = Field(default="", description="Python version.")
+    platform: str = Field(default="", description="OS and machine.")
+    created: datetime = Field(description="When the run folder was created (UTC).")
