@@ -104,10 +104,12 @@ def sheet(
 ) -> None:
     """Render a contact sheet of many tasks (one view each, or all four)."""
     from vlm_bench.catalog.tasks import get_task, tasks_in
-    from vlm_bench.sim.snapshots import task_sheet
+    from vlm_bench.episodes import make_episode
+    from vlm_bench.sim.snapshots import episode_sheet
 
     chosen = [get_task(t) for t in task] if task else tasks_in(parse_suite(suite))
-    image = task_sheet(chosen, parse_seed(seed), view=view, size=size, columns=columns)
+    episodes = [make_episode(t, parse_seed(seed)) for t in chosen]
+    image = episode_sheet(episodes, view=view, size=size, columns=columns)
     out.parent.mkdir(parents=True, exist_ok=True)
     image.save(out)
     typer.echo(str(out))

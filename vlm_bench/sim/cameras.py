@@ -30,23 +30,41 @@ def look_at_xyaxes(pos: NDArray[np.float64], target: NDArray[np.float64]) -> lis
     return [*right.tolist(), *up.tolist()]
 
 
-def work_area(episode: Episode) -> tuple[NDArray[np.float64], float]:
-    """Centre (x, y, z) and horizontal radius covering the plan's objects and the UAV start."""
+def framing_points(episode: Episode) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Points the third-person views must show, with a margin radius each (m).
+
+    The plan's objects and parts, every movable object, and the UAV start (its rotors reach
+    0.55 m from its centre).
+    """
     referenced = {s.object for s in episode.arm_steps()} | {
         s.target for s in episode.arm_steps() if s.target
     }
-    points = [np.array(episode.uav_start.pos)]
+    points, margins = [np.array(episode.uav_start.pos)], [0.6]
     for obj in episode.objects:
         kind = object_kind(obj.kind)
         if obj.id in referenced or (kind.movable and obj.role != "support"):
             points.append(np.array(obj.pos) + [0.0, 0.0, kind.size[2] / 2])
-    points.extend(np.array(p.handle) for p in episode.parts if p.id in referenced)
-    pts = np.stack(points)
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    center = (lo + hi) / 2
-    center[2] = float(np.median(pts[1:, 2])) if len(pts) > 1 else 0.75
-    radius = float(np.linalg.norm((hi - lo)[:2]) / 2)
-    return center, radius
+            margins.append(0.5 * max(kind.size[:2]) + 0.1)
+    for part in episode.parts:
+        if part.id in referenced:
+            points.append(np.array(part.handle))
+            margins.append(0.25)
+    return np.stack(points), np.array(margins)
+
+
+def fits(
+    pos: NDArray[np.float64], target: NDArray[np.float64], fovy: float,
+    points: NDArray[np.float64], margins: NDArray[np.float64], fill: float = 0.92,
+) -> bool:
+    """True when every point, grown by its margin, projects inside ``fill`` of a square frame."""
+    axes = np.array(look_at_xyaxes(pos, target)).reshape(2, 3)
+    forward = np.cross(axes[0], axes[1])
+    vec = points - pos
+    depth = vec @ -forward
+    if (depth <= margins).any():
+        return False
+    limit = math.tan(math.radians(fovy / 2)) * fill
+    return bool(((np.abs(vec @ axes.T) + margins[:, None]) / depth[:, None] <= limit).all())
 
 
 def _side_azimuth(episode: Episode, center: NDArray[np.float64]) -> float:
@@ -59,21 +77,32 @@ def _side_azimuth(episode: Episode, center: NDArray[np.float64]) -> float:
 
 def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
     """Add ``overhead`` and ``side`` cameras framing the episode's work area."""
-    center, radius = work_area(episode)
+    points, margins = framing_points(episode)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    center = (lo + hi) / 2
+    center[2] = float(np.median(points[1:, 2])) if len(points) > 1 else 0.75
     half_room = environment(episode.environment).room_half_size - 0.3
-    # Overhead: high above the area, tilted a little so heights read.
-    height = max(2.6, (radius + 0.6) / math.tan(math.radians(OVERHEAD_FOVY / 2))) + center[2]
-    pos = np.array([center[0], center[1] - 0.35 * (height - center[2]), height])
+    # Overhead: high above the area, tilted a little so heights read; raised until all fits.
+    height = 1.5
+    while True:
+        pos = np.array([center[0], center[1] - 0.2 * height, center[2] + height])
+        if height > 12 or fits(pos, center, OVERHEAD_FOVY, points, margins):
+            break
+        height += 0.1
     spec.worldbody.add_camera(
         name=CAM_OVERHEAD, pos=pos.tolist(), xyaxes=look_at_xyaxes(pos, center),
         fovy=OVERHEAD_FOVY,
     )
-    # Side: from the side at a moderate elevation, kept inside the room.
+    # Side: from the side at a moderate elevation, backed off until all fits, inside the room.
     az = math.radians(_side_azimuth(episode, center))
-    dist = max(2.4, (radius + 0.7) / math.tan(math.radians(SIDE_FOVY / 2)))
     elev = math.radians(SIDE_ELEVATION_DEG)
     offset = np.array([math.cos(az) * math.cos(elev), math.sin(az) * math.cos(elev), math.sin(elev)])
-    pos = center + dist * offset
+    dist = 1.5
+    while True:
+        pos = center + dist * offset
+        if dist > 12 or fits(pos, center, SIDE_FOVY, points, margins):
+            break
+        dist += 0.1
     pos[:2] = np.clip(pos[:2], -half_room, half_room)
     spec.worldbody.add_camera(
         name=CAM_SIDE, pos=pos.tolist(), xyaxes=look_at_xyaxes(pos, center), fovy=SIDE_FOVY

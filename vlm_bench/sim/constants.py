@@ -31,6 +31,9 @@ ARM_HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)  # Panda "ready" pose (
 # clear of the `uav` camera; lowest point is the shoulder (0.49 m below the UAV origin).
 ARM_STOW = (0.0, -1.71, 2.53, -2.18, 0.0, 0.37, 0.0)
 GRIPPER_CLOSED = 0.0  # finger joint position (m) when fully closed
+# Start-of-episode pose for snapshots: the wrist camera 0.34 m below the UAV origin, looking
+# forward and ~31° down; no arm link appears in the `uav` camera's image and nothing touches.
+ARM_OBSERVE = (1.4484, 0.3484, 2.6925, -3.0662, 1.0110, 1.2698, 1.1909)
 
 # Cameras (stable names, SPEC §2).
 CAM_UAV = "uav"

@@ -8,7 +8,7 @@ import mujoco
 
 from vlm_bench.catalog.world import environment
 from vlm_bench.sim.cameras import add_third_person_cameras
-from vlm_bench.sim.constants import ARM_STOW, GRIPPER_OPEN, PHYSICS_DT
+from vlm_bench.sim.constants import ARM_OBSERVE, GRIPPER_OPEN, PHYSICS_DT
 from vlm_bench.sim.environment import add_environment
 from vlm_bench.sim.objects import add_object, apply_initial_state
 from vlm_bench.sim.robot import add_aerial_manipulator, set_arm_qpos, set_arm_targets
@@ -41,14 +41,15 @@ def build_spec(episode: Episode) -> mujoco.MjSpec:
 
 
 def build_scene(episode: Episode, gust: GustConfig | None = None) -> Scene:
-    """Compile the episode's scene at its start state: arm stowed, UAV holding its start pose."""
+    """Compile the episode's scene at its start state: UAV holding its start pose, the arm in
+    the observe pose (wrist camera looking ahead), gripper open."""
     spec = build_spec(episode)
     model = spec.compile()
     data = mujoco.MjData(model)
     for obj in episode.objects:
         apply_initial_state(model, data, obj)
-    set_arm_qpos(model, data, ARM_STOW, GRIPPER_OPEN)
-    set_arm_targets(model, data, ARM_STOW, GRIPPER_OPEN)
+    set_arm_qpos(model, data, ARM_OBSERVE, GRIPPER_OPEN)
+    set_arm_targets(model, data, ARM_OBSERVE, GRIPPER_OPEN)
     controller = UavController(model, data, gust=gust)
     controller.set_setpoint(episode.uav_start.pos, episode.uav_start.yaw_deg)
     mujoco.mj_forward(model, data)

@@ -99,23 +99,21 @@ def save_views(views: Views, out: Path, title: str | None = None) -> list[Path]:
     return paths
 
 
-def task_sheet(
-    tasks: Sequence[object], seed: int, view: str = "overhead", size: int = 224, columns: int = 6
+def episode_sheet(
+    episodes: Sequence[Episode], view: str = "overhead", size: int = 224, columns: int = 6
 ) -> Image.Image:
-    """One tile per task (one view), or a 2×2 per task with ``view='all'``."""
-    from vlm_bench.episodes import make_episode
-
+    """One tile per episode (one view), or a 2×2 per episode with ``view='all'``."""
     views = list(CAMERAS) if view == "all" else check_views([view])
     renderer = SnapshotRenderer()
     tiles: dict[str, NDArray[np.uint8]] = {}
     try:
-        for task in tasks:
-            ep = make_episode(task, seed)  # type: ignore[arg-type]
+        for ep in episodes:
             images = render_episode(ep, views, size, renderer=renderer)
+            key = f"{ep.task_id} (seed {ep.seed})" if ep.task_id in tiles else ep.task_id
             if len(views) == 1:
-                tiles[ep.task_id] = images[views[0]]
+                tiles[key] = images[views[0]]
             else:
-                tiles[ep.task_id] = np.asarray(contact_sheet(images, title=None, columns=2))
+                tiles[key] = np.asarray(contact_sheet(images, title=None, columns=2))
     finally:
         renderer.close()
-    return contact_sheet(tiles, title=f"seed {seed} · {view}", columns=columns)
+    return contact_sheet(tiles, title=f"{view} view", columns=columns)
