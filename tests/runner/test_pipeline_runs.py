@@ -184,6 +184,8 @@ def test_run_options_are_checked_before_anything_is_written(tmp_path: Path) -> N
         api.run(model="oracle", tasks=("no_such_task",), out=tmp_path / "a")
     with pytest.raises(ConfigError, match="not available yet"):
         api.run(model="oracle", execute=True, out=tmp_path / "b")
+    with pytest.raises(ConfigError, match="resolution 2048 exceeds"):
+        api.run(model="oracle", resolution=2048, out=tmp_path / "d")
     with pytest.raises(ConfigError, match="give tasks or a suite, not both"):
         api.run(model="oracle", tasks=TASKS, suite="long_horizon", out=tmp_path / "c")
     assert not any(tmp_path.iterdir())

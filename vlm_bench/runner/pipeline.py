@@ -66,7 +66,9 @@ class EpisodePipeline:
         self, config: RunConfig, store: RunStore, backend: Callable[[], Backend],
         snapshots: SnapshotSource, advance: Callable[[int], None] | None = None,
     ) -> None:
-        """Args:
+        """Set up the pipeline of one run.
+
+        Args:
             config: The run configuration.
             store: The open run folder.
             backend: Returns the backend; called only when a model answer is needed, so a

@@ -106,6 +106,11 @@ def execute_run(
     """
     if config.execute:
         raise ConfigError("plan execution in the simulator (execute) is not available yet")
+    from vlm_bench.sim.environment import OFFSCREEN_SIZE
+
+    if config.resolution > OFFSCREEN_SIZE:
+        raise ConfigError(f"resolution {config.resolution} exceeds the simulator's offscreen "
+                          f"buffer; use at most {OFFSCREEN_SIZE}")
     refs = select_episodes(config)
     backend_name = backend.name if backend is not None else split_model(config.model)[0]
     cache_dir = (default_snapshot_cache(run_dir) if snapshot_cache is True
