@@ -16,14 +16,14 @@ from pathlib import Path
 os.environ.setdefault("MUJOCO_GL", "egl")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import mujoco  # noqa: E402
-from _machine import machine  # noqa: E402
+import mujoco
+from _machine import machine
 
-from vlm_bench.catalog.tasks import get_task  # noqa: E402
-from vlm_bench.episodes import make_episode  # noqa: E402
-from vlm_bench.sim.constants import CAMERAS  # noqa: E402
-from vlm_bench.sim.render import SnapshotRenderer  # noqa: E402
-from vlm_bench.sim.scene import build_scene, build_spec  # noqa: E402
+from vlm_bench.catalog.tasks import get_task
+from vlm_bench.episodes import make_episode
+from vlm_bench.sim.constants import CAMERAS
+from vlm_bench.sim.render import SnapshotRenderer
+from vlm_bench.sim.scene import build_scene, build_spec
 
 TASKS = {
     "household": "standard_pick_place",
@@ -54,7 +54,7 @@ def main() -> None:
     for env_type, task_id in TASKS.items():
         ep = make_episode(get_task(task_id), 0)
         assert get_task(task_id).environment.startswith(env_type)
-        build_ms = _ms(lambda: build_spec(ep), args.repeats)
+        build_ms = _ms(lambda ep=ep: build_spec(ep), args.repeats)
         spec = build_spec(ep)
         compile_ms = _ms(spec.compile, args.repeats)
         scene = build_scene(ep)
@@ -68,7 +68,7 @@ def main() -> None:
         for size in (224, 448):
             renderer.render_views(scene.model, scene.data, CAMERAS, size)  # warm-up
             render[size] = _ms(
-                lambda s=size: renderer.render_views(scene.model, scene.data, CAMERAS, s),
+                lambda s=size, sc=scene: renderer.render_views(sc.model, sc.data, CAMERAS, s),
                 args.repeats,
             ) / len(CAMERAS)
         print(

@@ -13,7 +13,9 @@ from PIL import Image
 def cli(*args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-c", "from vlm_bench.cli.main import main; main()", *args],
-        capture_output=True, text=True, check=False,
+        capture_output=True,
+        text=True,
+        check=False,
     )
 
 
@@ -26,8 +28,12 @@ def test_tasks_json_lists_60_tasks_per_suite() -> None:
     counts: dict[str, int] = {}
     for row in rows:
         counts[row["suite"]] = counts.get(row["suite"], 0) + 1
-    assert counts == {"base_manipulation": 20, "object_spatial": 15,
-                      "semantic_understanding": 15, "long_horizon": 10}
+    assert counts == {
+        "base_manipulation": 20,
+        "object_spatial": 15,
+        "semantic_understanding": 15,
+        "long_horizon": 10,
+    }
 
 
 def test_tasks_table_and_filter() -> None:
@@ -47,8 +53,9 @@ def test_episode_json_has_gt_in_paper_format() -> None:
 
 
 def test_render_writes_four_views_and_sheet(tmp_path: Path) -> None:
-    result = cli("render", "standard_pick_place", "--seed", "1", "--out", str(tmp_path),
-                 "--size", "64")
+    result = cli(
+        "render", "standard_pick_place", "--seed", "1", "--out", str(tmp_path), "--size", "64"
+    )
     assert result.returncode == 0, result.stderr
     for name in ("uav", "wrist", "overhead", "side"):
         assert Image.open(tmp_path / f"{name}.png").size == (64, 64)
@@ -58,7 +65,10 @@ def test_render_writes_four_views_and_sheet(tmp_path: Path) -> None:
 def test_user_errors_are_one_line() -> None:
     cases = [
         (("episode", "no_such_task"), "unknown task 'no_such_task'; valid:"),
-        (("episode", "standard_pick_place", "--seed", "abc"), "seed must be a non-negative integer"),
+        (
+            ("episode", "standard_pick_place", "--seed", "abc"),
+            "seed must be a non-negative integer",
+        ),
         (("tasks", "--suite", "nope"), "unknown suite 'nope'; valid: base_manipulation"),
         (("tasks", "--env", "moon"), "unknown environment 'moon'; valid:"),
     ]

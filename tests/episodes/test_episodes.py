@@ -8,7 +8,6 @@ from collections import Counter
 
 import pytest
 
-
 from vlm_bench.catalog.ground_truth import load_materialised, materialised_path
 from vlm_bench.catalog.tasks import all_tasks, get_task
 from vlm_bench.catalog.world import object_kind
@@ -71,7 +70,8 @@ def test_first_move_directions_cover_all_eight(episodes: dict) -> None:  # type:
 
 def test_vertical_moves_for_drawers(episodes: dict) -> None:  # type: ignore[type-arg]
     with_vertical = {
-        key[0] for key, ep in episodes.items()
+        key[0]
+        for key, ep in episodes.items()
         if any(isinstance(s, UavStep) and not s.direction.is_horizontal for s in ep.gt_plan)
     }
     top_drawer_tasks = {

@@ -7,7 +7,7 @@ import pytest
 
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.episodes import make_episode
-from vlm_bench.sim.constants import CAMERAS, CAM_OVERHEAD
+from vlm_bench.sim.constants import CAM_OVERHEAD, CAMERAS
 from vlm_bench.sim.labels import project_points
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.sim.scene import build_scene

@@ -52,8 +52,11 @@ def _check(path: Path, task: TaskSpec) -> None:
     for i, obj in enumerate(task.objects):
         key = (obj.kind, obj.color or kinds[obj.kind].default_color)
         if twins[key] > 1 and not re.search(r"_\d+$", obj.id):
-            fail(f"objects[{i}].id", f"{obj.id!r} shares kind and colour with another object; "
-                 "number it (e.g. red_cup_1)")
+            fail(
+                f"objects[{i}].id",
+                f"{obj.id!r} shares kind and colour with another object; "
+                "number it (e.g. red_cup_1)",
+            )
     for i, step in enumerate(task.arm_steps):
         if step.skill not in skill_table or skill_table[step.skill].agent != "ARM":
             arm = [s for s, v in skill_table.items() if v.agent == "ARM"]

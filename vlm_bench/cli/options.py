@@ -40,9 +40,16 @@ def parse_suite(text: str | None) -> Suite | None:
     if text is None:
         return None
     norm = text.strip().lower().replace("-", "_").replace(" ", "_")
-    aliases = {"base": Suite.BASE, "bm": Suite.BASE, "os": Suite.OBJECT_SPATIAL,
-               "object": Suite.OBJECT_SPATIAL, "semantic": Suite.SEMANTIC, "su": Suite.SEMANTIC,
-               "lh": Suite.LONG_HORIZON, "long": Suite.LONG_HORIZON}
+    aliases = {
+        "base": Suite.BASE,
+        "bm": Suite.BASE,
+        "os": Suite.OBJECT_SPATIAL,
+        "object": Suite.OBJECT_SPATIAL,
+        "semantic": Suite.SEMANTIC,
+        "su": Suite.SEMANTIC,
+        "lh": Suite.LONG_HORIZON,
+        "long": Suite.LONG_HORIZON,
+    }
     for suite in Suite:
         if norm == suite.value:
             return suite

@@ -16,7 +16,9 @@ console = Console()
 
 
 def tasks(
-    suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. long_horizon, lh).")] = None,
+    suite: Annotated[
+        str | None, typer.Option(help="Only this suite (e.g. long_horizon, lh).")
+    ] = None,
     environment: Annotated[str | None, typer.Option("--env", help="Only this environment.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print a JSON list.")] = False,
 ) -> None:
@@ -29,8 +31,10 @@ def tasks(
         get_env(environment)  # validates the name
         chosen = [t for t in chosen if t.environment == environment]
     if as_json:
-        rows = [{"id": t.id, "name": t.name, "suite": t.suite.value,
-                 "environment": t.environment} for t in chosen]
+        rows = [
+            {"id": t.id, "name": t.name, "suite": t.suite.value, "environment": t.environment}
+            for t in chosen
+        ]
         typer.echo(json.dumps(rows, indent=1))
         return
     table = Table(title=f"{len(chosen)} tasks")
@@ -39,18 +43,20 @@ def tasks(
     for col in ("name", "suite", "environment", "ARM steps"):
         table.add_column(col)
     for i, t in enumerate(chosen, 1):
-        table.add_row(str(i), t.id, t.name, t.suite.title, t.environment, str(len(t.arm_steps)))
+        table.add_row(str(i), t.id, t.name, t.suite.label, t.environment, str(len(t.arm_steps)))
     console.print(table)
     counts: dict[str, int] = {}
     for t in chosen:
-        counts[t.suite.title] = counts.get(t.suite.title, 0) + 1
+        counts[t.suite.label] = counts.get(t.suite.label, 0) + 1
     console.print(", ".join(f"{k}: {v}" for k, v in counts.items()))
 
 
 def episode(
     task: Annotated[str, typer.Argument(help="Task id (see `vlm-bench tasks`).")],
     seed: Annotated[str, typer.Option(help="Episode seed (0 = canonical layout).")] = "0",
-    as_json: Annotated[bool, typer.Option("--json", help="Print the full episode as JSON.")] = False,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the full episode as JSON.")
+    ] = False,
 ) -> None:
     """Show one episode: objects, UAV start, instructions, GT plan, goals."""
     from vlm_bench.episodes import make_episode
@@ -62,16 +68,22 @@ def episode(
     if as_json:
         typer.echo(json.dumps(data, indent=1))
         return
-    console.print(f"[bold]{ep.task_id}[/] seed {ep.seed} · {ep.suite.title} · {ep.environment}")
+    console.print(f"[bold]{ep.task_id}[/] seed {ep.seed} · {ep.suite.label} · {ep.environment}")
     console.print(f"explicit: {ep.instructions.explicit}")
     console.print(f"implicit: {ep.instructions.implicit}")
     console.print(f"UAV start: pos {ep.uav_start.pos} yaw {ep.uav_start.yaw_deg:.1f}°")
     for obj in ep.objects:
-        console.print(f"  {obj.id:<22} {obj.kind:<15} {obj.color:<10} "
-                      f"({obj.pos[0]:+.3f}, {obj.pos[1]:+.3f}, {obj.pos[2]:.3f})")
+        console.print(
+            f"  {obj.id:<22} {obj.kind:<15} {obj.color:<10} "
+            f"({obj.pos[0]:+.3f}, {obj.pos[1]:+.3f}, {obj.pos[2]:.3f})"
+        )
     console.print("GT plan: " + json.dumps(data["gt_plan"]))
-    console.print("goals: " + ", ".join(
-        f"{g.predicate}({g.object}{', ' + g.target if g.target else ''})" for g in ep.goals))
+    console.print(
+        "goals: "
+        + ", ".join(
+            f"{g.predicate}({g.object}{', ' + g.target if g.target else ''})" for g in ep.goals
+        )
+    )
 
 
 def render(
@@ -98,7 +110,9 @@ def sheet(
     suite: Annotated[str | None, typer.Option(help="Only this suite.")] = None,
     task: Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")] = None,
     seed: Annotated[str, typer.Option(help="Episode seed.")] = "0",
-    view: Annotated[str, typer.Option(help="Camera view, or 'all' for a 2×2 per task.")] = "overhead",
+    view: Annotated[
+        str, typer.Option(help="Camera view, or 'all' for a 2×2 per task.")
+    ] = "overhead",
     size: Annotated[int, typer.Option(help="Tile size in pixels.")] = 224,
     columns: Annotated[int, typer.Option(help="Tiles per row.")] = 6,
 ) -> None:

@@ -52,7 +52,10 @@ def _lighting(task_id: str, seed: int) -> Lighting:
 
 
 def _sample_start(
-    task: TaskSpec, seed: int, rng: np.random.Generator, target: np.ndarray,
+    task: TaskSpec,
+    seed: int,
+    rng: np.random.Generator,
+    target: np.ndarray,
     front: tuple[float, float] | None,
 ) -> UavPose:
     sector = first_sector(task.id, seed)

@@ -37,7 +37,10 @@ def quantise_bearing(bearing_deg: float) -> tuple[Direction, float]:
 
 
 def move_stop(
-    start_xy: Sequence[float], heading_deg: float, target_xy: Sequence[float], standoff: float,
+    start_xy: Sequence[float],
+    heading_deg: float,
+    target_xy: Sequence[float],
+    standoff: float,
     max_move: float,
 ) -> tuple[float, float]:
     """Where a straight flight along ``heading_deg`` stops for a target (SPEC §7).
@@ -63,7 +66,8 @@ def rect_corners(center: Sequence[float], size_xy: Sequence[float], yaw_deg: flo
     """Corners (4, 2) of a yawed rectangle."""
     hx, hy = size_xy[0] / 2, size_xy[1] / 2
     pts = [rotate_xy(sx * hx, sy * hy, yaw_deg) for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
-    return np.asarray(pts) + np.asarray(center[:2])
+    corners: np.ndarray = np.asarray(pts) + np.asarray(center[:2])
+    return corners
 
 
 def rects_overlap(a: np.ndarray, b: np.ndarray, gap: float = 0.0) -> bool:
@@ -86,8 +90,8 @@ def point_rect_distance(point: Sequence[float], corners: np.ndarray) -> float:
     ey = corners[1] - corners[2]
     lx, ly = np.linalg.norm(ex), np.linalg.norm(ey)
     d = p - center
-    qx = abs(float(d @ ex) / lx) - lx / 2
-    qy = abs(float(d @ ey) / ly) - ly / 2
+    qx = abs(float(d @ ex) / float(lx)) - float(lx) / 2
+    qy = abs(float(d @ ey) / float(ly)) - float(ly) / 2
     return float(math.hypot(max(qx, 0.0), max(qy, 0.0)))
 
 

@@ -150,7 +150,9 @@ class GroundTruthBuilder:
             raise AmbiguousGeometry("altitude difference is near the vertical threshold")
         if abs(dz) > geo.vertical_threshold:
             state.uav_z = round(op_z, 4)
-            steps.append((UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN), _pose(state)))
+            steps.append(
+                (UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN), _pose(state))
+            )
         return steps
 
     # ---- skill effects ----------------------------------------------------------------
@@ -173,9 +175,7 @@ class GroundTruthBuilder:
                 state.gone.add(step.object)
 
     def _initial_openings(self) -> dict[str, float]:
-        return {
-            name: owner.initial.get(name, 0.0) for name, (_, owner) in self._part_specs.items()
-        }
+        return {name: owner.initial.get(name, 0.0) for name, (_, owner) in self._part_specs.items()}
 
     # ---- public -----------------------------------------------------------------------
     def build(
@@ -211,7 +211,10 @@ def first_reference(
     """Reference point of the first ARM object and, for front-approached parts, its front axis."""
     first = arm_steps[0].object
     state = _State(
-        (0.0, 0.0), 0.0, 0.0, {i: o.pos for i, o in builder.objects.items()},
+        (0.0, 0.0),
+        0.0,
+        0.0,
+        {i: o.pos for i, o in builder.objects.items()},
         builder._initial_openings(),
     )
     ref = builder._ref(state, first)

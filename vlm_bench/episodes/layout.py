@@ -127,7 +127,9 @@ def part_refs(objects: list[EpisodeObject]) -> list[PartRef]:
             if part.kind == "drawer":
                 hx += obj.initial.get(part.name, 0.0)
             out.append(
-                PartRef(id=part.name, parent=obj.id, kind=part.kind, handle=_world(obj, (hx, hy, hz)))
+                PartRef(
+                    id=part.name, parent=obj.id, kind=part.kind, handle=_world(obj, (hx, hy, hz))
+                )
             )
     return out
 

@@ -52,7 +52,7 @@ def summary_markdown(long: pd.DataFrame, by: str = "model") -> str:
     for (system, instruction), row in wide.iterrows():
         cells = [str(system), str(instruction), *(_fmt(v) for v in row.tolist())]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
-    names = ", ".join(f"{SUITE_SHORT[s]} = {Suite(s).title}" for s in suites if s in SUITE_ORDER)
+    names = ", ".join(f"{SUITE_SHORT[s]} = {Suite(s).label}" for s in suites if s in SUITE_ORDER)
     counts = long[long["suite"] == OVERALL]
     n = int(counts[counts["instruction"] != "both"]["n"].sum())
     return "\n".join(lines) + f"\n\n{names}. {LEGEND} Episodes scored: {n}.\n"
@@ -76,7 +76,7 @@ def _rich_long(long: pd.DataFrame, by: str, title: str | None, short: bool) -> T
     caption = "Succ in %; Overall = mean of suites"
     if short:
         present = [s for s in SUITE_ORDER if s in set(long["suite"])]
-        legend = ", ".join(f"{SUITE_SHORT[s]} = {Suite(s).title}" for s in present)
+        legend = ", ".join(f"{SUITE_SHORT[s]} = {Suite(s).label}" for s in present)
         caption = f"{legend}; {caption}"
     table = Table(title=title, caption=caption, box=box.SIMPLE_HEAD, collapse_padding=True)
     table.add_column("Model" if by == "model" else by, overflow="fold")
@@ -91,7 +91,7 @@ def _rich_long(long: pd.DataFrame, by: str, title: str | None, short: bool) -> T
     for _, row in long.iterrows():
         group = (row[by], row["instruction"])
         overall = row["suite"] == OVERALL
-        name = SUITE_SHORT[row["suite"]] if short or overall else Suite(row["suite"]).title
+        name = SUITE_SHORT[row["suite"]] if short or overall else Suite(row["suite"]).label
         cells = [str(row[by]) if group != previous else "",
                  str(row["instruction"]) if group != previous else "", name,
                  *(_fmt(row[m]) for m in VALUES), str(row["n"])]

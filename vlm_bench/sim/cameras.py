@@ -43,7 +43,7 @@ def framing_points(episode: Episode) -> tuple[NDArray[np.float64], NDArray[np.fl
     for obj in episode.objects:
         kind = object_kind(obj.kind)
         if obj.id in referenced or (kind.movable and obj.role != "support"):
-            points.append(np.array(obj.pos) + [0.0, 0.0, kind.size[2] / 2])
+            points.append(np.array(obj.pos) + np.array([0.0, 0.0, kind.size[2] / 2]))
             margins.append(0.5 * max(kind.size[:2]) + 0.1)
     for part in episode.parts:
         if part.id in referenced:
@@ -53,8 +53,12 @@ def framing_points(episode: Episode) -> tuple[NDArray[np.float64], NDArray[np.fl
 
 
 def fits(
-    pos: NDArray[np.float64], target: NDArray[np.float64], fovy: float,
-    points: NDArray[np.float64], margins: NDArray[np.float64], fill: float = 0.92,
+    pos: NDArray[np.float64],
+    target: NDArray[np.float64],
+    fovy: float,
+    points: NDArray[np.float64],
+    margins: NDArray[np.float64],
+    fill: float = 0.92,
 ) -> bool:
     """True when every point, grown by its margin, projects inside ``fill`` of a square frame."""
     axes = np.array(look_at_xyaxes(pos, target)).reshape(2, 3)
@@ -90,13 +94,17 @@ def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
             break
         height += 0.1
     spec.worldbody.add_camera(
-        name=CAM_OVERHEAD, pos=pos.tolist(), xyaxes=look_at_xyaxes(pos, center),
+        name=CAM_OVERHEAD,
+        pos=pos.tolist(),
+        xyaxes=look_at_xyaxes(pos, center),
         fovy=OVERHEAD_FOVY,
     )
     # Side: from the side at a moderate elevation, backed off until all fits, inside the room.
     az = math.radians(_side_azimuth(episode, center))
     elev = math.radians(SIDE_ELEVATION_DEG)
-    offset = np.array([math.cos(az) * math.cos(elev), math.sin(az) * math.cos(elev), math.sin(elev)])
+    offset = np.array(
+        [math.cos(az) * math.cos(elev), math.sin(az) * math.cos(elev), math.sin(elev)]
+    )
     dist = 1.5
     while True:
         pos = center + dist * offset

@@ -33,7 +33,7 @@ def _label_points(scene: Scene) -> list[tuple[str, NDArray[np.float64]]]:
     for obj in scene.episode.objects:
         if obj.label:
             top = object_kind(obj.kind).size[2]
-            out.append((obj.label, np.array(obj.pos) + [0.0, 0.0, top + 0.02]))
+            out.append((obj.label, np.array(obj.pos) + np.array([0.0, 0.0, top + 0.02])))
     return out
 
 
@@ -59,8 +59,11 @@ def render_scene(
             if view not in images:
                 continue
             pix, visible = project_points(scene.model, scene.data, view, points, size, size)
-            tags = [(text, (float(u), float(v))) for (text, _), (u, v), ok
-                    in zip(marks, pix, visible, strict=True) if ok]
+            tags = [
+                (text, (float(u), float(v)))
+                for (text, _), (u, v), ok in zip(marks, pix, visible, strict=True)
+                if ok
+            ]
             images[view] = draw_labels(images[view], tags)
     return images
 

@@ -69,7 +69,9 @@ class ArmStep(Frozen):
 PlanStep = Annotated[UavStep | ArmStep, Field(discriminator="tasktype")]
 
 
-def plan_to_json(steps: list[UavStep | ArmStep] | tuple[UavStep | ArmStep, ...]) -> list[dict[str, Any]]:
+def plan_to_json(
+    steps: list[UavStep | ArmStep] | tuple[UavStep | ArmStep, ...],
+) -> list[dict[str, Any]]:
     """Serialise a plan in the paper's format, numbering subtasks from 0."""
     out: list[dict[str, Any]] = []
     for i, step in enumerate(steps):

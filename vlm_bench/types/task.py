@@ -19,7 +19,7 @@ class Suite(StrEnum):
     LONG_HORIZON = "long_horizon"
 
     @property
-    def title(self) -> str:
+    def label(self) -> str:
         """Human title as printed in the paper's tables."""
         return SUITE_TITLES[self]
 

@@ -1,4 +1,4 @@
-"""The world catalogue: named colours, object kinds and environments (``ground_truth/world.json``)."""
+"""The world catalogue (``ground_truth/world.json``): colours, object kinds, environments."""
 
 from __future__ import annotations
 
@@ -20,9 +20,13 @@ class Frozen(BaseModel):
 class PartSpec(Frozen):
     """An addressable part of an articulated object (a drawer, a knob)."""
 
-    name: str = Field(pattern=SNAKE, description="Object id the part has in plans, e.g. top_drawer.")
+    name: str = Field(
+        pattern=SNAKE, description="Object id the part has in plans, e.g. top_drawer."
+    )
     kind: Literal["drawer", "knob"] = Field(description="Mechanism type of the part.")
-    handle: Vec3 = Field(description="Handle/knob position in the object's frame (m, origin at base).")
+    handle: Vec3 = Field(
+        description="Handle/knob position in the object's frame (m, origin at base)."
+    )
     standoff: float | None = Field(
         default=None, description="Horizontal UAV stand-off for this part (m); None = default."
     )
