@@ -1,0 +1,126 @@
+"""The simulation loop: physics at 500 Hz with the UAV controller every step, control at 20 Hz.
+
+Skills drive the robot through :meth:`SimLoop.control_step`: they set servo targets and the UAV
+setpoint, then advance one control period. The loop watches for numerical blow-ups (the only
+exception the executor raises internally; it becomes a failed result) and records contacts
+between the robot and the rest of the world.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from vlm_bench.executor.types import ExecutorConfig
+from vlm_bench.sim import constants as c
+from vlm_bench.sim.robot import robot_geom_ids
+from vlm_bench.sim.scene import Scene
+from vlm_bench.types.episode import UavPose
+
+UNSTABLE = "simulator unstable"
+# MuJoCo resets the state itself when it meets non-finite values; these warnings tell us it did.
+_BAD_STATE_WARNINGS = (
+    mujoco.mjtWarning.mjWARN_BADQPOS,
+    mujoco.mjtWarning.mjWARN_BADQVEL,
+    mujoco.mjtWarning.mjWARN_BADQACC,
+)
+
+
+class SimulatorUnstable(RuntimeError):
+    """The state became non-finite or absurdly fast; the executor turns it into a failure."""
+
+
+class SimLoop:
+    """Steps a scene at the benchmark's rates and records robot–world contacts.
+
+    Args:
+        scene: A compiled episode scene (see :func:`vlm_bench.sim.scene.build_scene`).
+        config: Executor settings.
+    """
+
+    def __init__(self, scene: Scene, config: ExecutorConfig | None = None) -> None:
+        self.scene = scene
+        self.model = scene.model
+        self.data = scene.data
+        self.controller = scene.controller
+        self.config = config or ExecutorConfig()
+        self._robot_geom = np.zeros(self.model.ngeom, dtype=bool)
+        self._robot_geom[robot_geom_ids(self.model)] = True
+        self._touched: set[int] = set()
+        uav = self.model.joint(c.UAV_FREEJOINT)
+        self._uav_qpos = int(uav.qposadr[0])
+        self._uav_dof = int(uav.dofadr[0])
+        self._bad_warnings = self._count_bad_warnings()
+
+    def _count_bad_warnings(self) -> int:
+        return sum(int(self.data.warning[int(w)].number) for w in _BAD_STATE_WARNINGS)
+
+    # ---- stepping ---------------------------------------------------------------------
+    def physics_step(self) -> None:
+        """One 2 ms physics step with the UAV controller applied."""
+        self.controller.apply(self.data)
+        mujoco.mj_step(self.model, self.data)
+        self._record_contacts()
+
+    def control_step(self) -> None:
+        """Advance one 50 ms control period; raises :class:`SimulatorUnstable` on blow-up."""
+        for _ in range(c.STEPS_PER_CONTROL):
+            self.physics_step()
+        self._check_stable()
+
+    def _check_stable(self) -> None:
+        d = self.data
+        if self._count_bad_warnings() > self._bad_warnings:
+            raise SimulatorUnstable(UNSTABLE)
+        if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
+            raise SimulatorUnstable(UNSTABLE)
+        if float(np.max(np.abs(d.qvel), initial=0.0)) > self.config.max_speed_unstable:
+            raise SimulatorUnstable(UNSTABLE)
+
+    def _record_contacts(self) -> None:
+        ncon = self.data.ncon
+        if ncon == 0:
+            return
+        geoms = self.data.contact.geom[:ncon]
+        robot = self._robot_geom[geoms]
+        mixed = robot[:, 0] != robot[:, 1]
+        if mixed.any():
+            pairs = geoms[mixed]
+            others = np.where(robot[mixed][:, 0], pairs[:, 1], pairs[:, 0])
+            self._touched.update(int(g) for g in others)
+
+    def take_collisions(self) -> tuple[str, ...]:
+        """Names of non-robot geoms touched since the last call (then forgets them)."""
+        names = sorted(
+            mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, g) or f"geom{g}"
+            for g in self._touched
+        )
+        self._touched.clear()
+        return tuple(names)
+
+    # ---- state ------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return float(self.data.time)
+
+    def uav_position(self) -> np.ndarray:
+        """UAV body position (m, world)."""
+        return np.array(self.data.qpos[self._uav_qpos : self._uav_qpos + 3], dtype=np.float64)
+
+    def uav_speed(self) -> float:
+        """UAV linear speed (m/s)."""
+        v = self.data.qvel[self._uav_dof : self._uav_dof + 3]
+        return float(np.linalg.norm(v))
+
+    def uav_yaw_deg(self) -> float:
+        """UAV heading (deg, CCW from world +x)."""
+        w, x, y, z = (float(v) for v in self.data.qpos[self._uav_qpos + 3 : self._uav_qpos + 7])
+        return math.degrees(math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)))
+
+    def uav_pose(self) -> UavPose:
+        """Current UAV pose."""
+        p = self.uav_position()
+        return UavPose(pos=(float(p[0]), float(p[1]), float(p[2])), yaw_deg=self.uav_yaw_deg())
