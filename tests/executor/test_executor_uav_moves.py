@@ -88,13 +88,13 @@ def test_execute_plan_fails_unavailable_skill_and_skips_rest() -> None:
     episode = make_episode("standard_pick_place", 0)
     plan = [
         UavStep(direction=Direction.UP, distance=0.1),
-        ArmStep(object="gray_cube", skill="pick"),
+        ArmStep(object="gray_cube", skill="push"),
         UavStep(direction=Direction.DOWN, distance=0.1),
     ]
     result = execute_plan(episode, plan)
     assert [s.status for s in result.steps] == ["ok", "failed", "skipped"]
     assert result.n_steps_done == 1 and not result.exec_success
-    assert result.failure_reason is not None and "pick" in result.failure_reason
+    assert result.failure_reason is not None and "push" in result.failure_reason
     assert abs(result.final_uav_pose.pos[2] - (episode.uav_start.pos[2] + 0.1)) < 0.02
     assert result.sim_time_s > 0.5
 

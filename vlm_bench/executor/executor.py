@@ -5,7 +5,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 
-from vlm_bench.executor.loop import SimLoop, SimulatorUnstable
+from vlm_bench.executor.grasping import grasp_skills
+from vlm_bench.executor.loop import ArmSkill, SimLoop, SimulatorUnstable
 from vlm_bench.executor.references import object_reference
 from vlm_bench.executor.types import ExecutionResult, ExecutorConfig, StepOutcome
 from vlm_bench.executor.uav_move import fly_to, move_target, stow_arm
@@ -14,8 +15,6 @@ from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep, UavStep
 
 PlanSteps = Sequence[UavStep | ArmStep]
-ArmSkill = Callable[[SimLoop, Episode, ArmStep], str | None]
-"""An ARM skill: runs on the loop and returns ``None`` on success or a failure reason."""
 
 
 def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
@@ -38,16 +37,17 @@ def execute_plan(
     plan: PlanSteps,
     config: ExecutorConfig | None = None,
     scene: Scene | None = None,
-    arm_skills: dict[str, ArmSkill] | None = None,
+    arm_skills: Callable[[SimLoop], dict[str, ArmSkill]] = grasp_skills,
 ) -> ExecutionResult:
     """Replay ``plan`` on ``episode``'s scene (built fresh unless ``scene`` is given).
 
-    ARM steps run through ``arm_skills`` (skill name → callable); a skill missing there fails
-    the step with a reason. Execution stops at the first failed step; later steps are skipped.
+    ARM steps run through the skills ``arm_skills`` makes for the loop (default: scripted
+    ``pick`` and ``place``); a skill missing there fails the step with a reason.
+    Execution stops at the first failed step; later steps are skipped.
     """
     wall0 = time.perf_counter()
     loop = SimLoop(scene or build_scene(episode), config)
-    skills = arm_skills or {}
+    skills = arm_skills(loop)
     outcomes: list[StepOutcome] = []
     failure: str | None = None
     for index, step in enumerate(plan):

@@ -9,6 +9,7 @@ between the robot and the rest of the world.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import mujoco
 import numpy as np
@@ -17,7 +18,8 @@ from vlm_bench.executor.types import ExecutorConfig
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import robot_geom_ids
 from vlm_bench.sim.scene import Scene
-from vlm_bench.types.episode import UavPose
+from vlm_bench.types.episode import Episode, UavPose
+from vlm_bench.types.plan import ArmStep
 
 UNSTABLE = "simulator unstable"
 # MuJoCo resets the state itself when it meets non-finite values; these warnings tell us it did.
@@ -124,3 +126,7 @@ class SimLoop:
         """Current UAV pose."""
         p = self.uav_position()
         return UavPose(pos=(float(p[0]), float(p[1]), float(p[2])), yaw_deg=self.uav_yaw_deg())
+
+
+ArmSkill = Callable[[SimLoop, Episode, ArmStep], str | None]
+"""An ARM skill: runs on the loop and returns ``None`` on success or a failure reason."""
