@@ -70,8 +70,11 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> Non
 def test_ctrl_c_exits_130_with_a_resume_hint(tmp_path: Path) -> None:
     out = tmp_path / "run"
     command = _command(out)
+    # pytest-xdist workers ignore SIGINT and children inherit that; restore the default so
+    # the child Python installs its KeyboardInterrupt handler, as in a user's terminal.
     proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     records = out / "records.jsonl"
     deadline = time.monotonic() + 50
     while _lines(records) < 2 and proc.poll() is None and time.monotonic() < deadline:

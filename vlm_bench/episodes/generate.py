@@ -23,7 +23,7 @@ from vlm_bench.types.episode import Episode, Lighting, UavPose
 from vlm_bench.types.task import TaskSpec
 
 MAX_ATTEMPTS = 500
-CRUISE_ALTITUDE = 1.40  # m, UAV body altitude at the start
+CRUISE_ALTITUDE = 1.50  # m, UAV body altitude at the start (stowed arm clears table objects)
 ALTITUDE_JITTER = 0.03  # m
 START_DISTANCE = (1.3, 2.0)  # m, horizontal distance to the first ARM object
 BEARING_SPREAD = 12.0  # deg around the sector centre (boundaries are 22.5 deg away)

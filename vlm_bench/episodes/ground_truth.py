@@ -125,7 +125,26 @@ class GroundTruthBuilder:
             if top > stow_bottom and segment_rect_distance(a, b, corners) < UAV_CLEARANCE:
                 raise AmbiguousGeometry(f"UAV path passes too close to {obj_id}")
 
-    def _approach(self, state: _State, ref: _Ref) -> list[tuple[UavStep, UavPose]]:
+    def _check_arm(
+        self, state: _State, a: tuple[float, float], b: tuple[float, float], z: float,
+        exclude: set[str],
+    ) -> None:
+        """The stowed arm, hanging below the UAV, must pass above every object on the way."""
+        geo = self.geometry
+        lowest = z - geo.stow_depth - geo.stow_clearance
+        for obj_id, (bx, by, bz) in state.bottoms.items():
+            if obj_id in exclude or obj_id in state.gone or obj_id == state.held:
+                continue
+            kind = object_kind(self.objects[obj_id].kind)
+            if bz + kind.size[2] <= lowest:
+                continue
+            corners = rect_corners((bx, by), kind.size[:2], self.objects[obj_id].yaw_deg)
+            if segment_rect_distance(a, b, corners) < geo.stow_radius:
+                raise AmbiguousGeometry(f"the stowed arm would hit {obj_id}")
+
+    def _approach(
+        self, state: _State, ref: _Ref, target: str
+    ) -> list[tuple[UavStep, UavPose]]:
         """UAV moves that bring ``ref`` into reach, each with the pose it ends at."""
         geo = self.geometry
         steps: list[tuple[UavStep, UavPose]] = []
@@ -142,6 +161,7 @@ class GroundTruthBuilder:
             if math.dist(stop, (ref.x, ref.y)) > geo.reach_horizontal - REACH_MARGIN:
                 raise AmbiguousGeometry("the move cannot bring the object into reach")
             self._check_path(state.uav_xy, stop, state.uav_z)
+            self._check_arm(state, state.uav_xy, stop, state.uav_z, {target})
             state.uav_xy = (round(stop[0], 4), round(stop[1], 4))
             steps.append((UavStep(direction=direction), _pose(state)))
         op_z = geo.operating_altitude(ref.z)
@@ -149,6 +169,8 @@ class GroundTruthBuilder:
         if abs(abs(dz) - geo.vertical_threshold) < VERTICAL_MARGIN:
             raise AmbiguousGeometry("altitude difference is near the vertical threshold")
         if abs(dz) > geo.vertical_threshold:
+            low = min(op_z, state.uav_z)
+            self._check_arm(state, state.uav_xy, state.uav_xy, low, {target})
             state.uav_z = round(op_z, 4)
             steps.append(
                 (UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN), _pose(state))
@@ -189,10 +211,17 @@ class GroundTruthBuilder:
             bottoms={i: o.pos for i, o in self.objects.items()},
             openings=self._initial_openings(),
         )
+        self._check_arm(state, state.uav_xy, state.uav_xy, state.uav_z, set())
         plan: list[UavStep | ArmStep] = []
         poses: list[UavPose] = []
         for spec in arm_steps:
-            for move, pose in self._approach(state, self._ref(state, spec.object)):
+            ref = self._ref(state, spec.object)
+            if spec.skill == "place" and state.held is not None:
+                # Where the held object will rest: the destination's top, not its box centre.
+                tx, ty, tz = self._top_for(state, spec.object)
+                half = object_kind(self.objects[state.held].kind).size[2] / 2
+                ref = _Ref(tx, ty, tz + half, ref.standoff)
+            for move, pose in self._approach(state, ref, spec.object):
                 plan.append(move)
                 poses.append(pose)
             plan.append(ArmStep(object=spec.object, skill=spec.skill, target=spec.target))

@@ -84,7 +84,7 @@ def to_png(image: NDArray[np.uint8]) -> bytes:
     import io
 
     buf = io.BytesIO()
-    Image.fromarray(image).save(buf, format="PNG")
+    Image.fromarray(image).save(buf, format="PNG", compress_level=1)
     return buf.getvalue()
 
 

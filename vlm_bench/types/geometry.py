@@ -20,7 +20,7 @@ class ApproachGeometry(Frozen):
         default=0.10, description="Arm base (Panda link0) below the UAV body origin (m)."
     )
     op_height: float = Field(
-        default=0.50, description="Arm base height above an object's reference point (m)."
+        default=0.60, description="Arm base height above an object's reference point (m)."
     )
     ideal_standoff: float = Field(
         default=0.65, description="Ideal arm-base-to-object distance (m), official evaluator."
@@ -32,6 +32,15 @@ class ApproachGeometry(Frozen):
     )
     vertical_threshold: float = Field(
         default=0.20, description="Altitude error (m) beyond which an up/down move is needed."
+    )
+    stow_depth: float = Field(
+        default=0.50, description="Lowest point of the stowed arm below the UAV origin (m)."
+    )
+    stow_radius: float = Field(
+        default=0.40, description="Horizontal reach of the stowed arm from the UAV axis (m)."
+    )
+    stow_clearance: float = Field(
+        default=0.02, description="Vertical clearance the stowed arm keeps above objects (m)."
     )
     default_move: float = Field(default=1.0, description="Move length with no ARM step after (m).")
     max_move: float = Field(default=4.0, description="Longest single move (m).")
