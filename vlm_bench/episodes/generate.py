@@ -16,7 +16,7 @@ import numpy as np
 from vlm_bench.catalog.tasks import get_task, task_index
 from vlm_bench.catalog.world import environment, object_kind
 from vlm_bench.episodes.geometry import point_rect_distance, rect_corners, wrap_deg
-from vlm_bench.episodes.ground_truth import AmbiguousGeometry, GroundTruthBuilder, first_reference
+from vlm_bench.episodes.ground_truth import AmbiguousGeometry, GroundTruthBuilder
 from vlm_bench.episodes.layout import part_refs, place_objects
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.types.episode import Episode, Lighting, UavPose
@@ -100,7 +100,7 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
             objects = place_objects(task, None if seed == 0 else rng)
             parts = part_refs(objects)
             builder = GroundTruthBuilder(objects, parts)
-            target, front = first_reference(builder, task.arm_steps)
+            target, front = builder.first_reference(task.arm_steps)
             start = _sample_start(task, seed, rng, target, front)
             _check_start(task, start, objects)
             plan, poses = builder.build(start, task.arm_steps)

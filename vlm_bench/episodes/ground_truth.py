@@ -126,7 +126,11 @@ class GroundTruthBuilder:
                 raise AmbiguousGeometry(f"UAV path passes too close to {obj_id}")
 
     def _check_arm(
-        self, state: _State, a: tuple[float, float], b: tuple[float, float], z: float,
+        self,
+        state: _State,
+        a: tuple[float, float],
+        b: tuple[float, float],
+        z: float,
         exclude: set[str],
     ) -> None:
         """The stowed arm, hanging below the UAV, must pass above every object on the way."""
@@ -142,9 +146,7 @@ class GroundTruthBuilder:
             if segment_rect_distance(a, b, corners) < geo.stow_radius:
                 raise AmbiguousGeometry(f"the stowed arm would hit {obj_id}")
 
-    def _approach(
-        self, state: _State, ref: _Ref, target: str
-    ) -> list[tuple[UavStep, UavPose]]:
+    def _approach(self, state: _State, ref: _Ref, target: str) -> list[tuple[UavStep, UavPose]]:
         """UAV moves that bring ``ref`` into reach, each with the pose it ends at."""
         geo = self.geometry
         steps: list[tuple[UavStep, UavPose]] = []
@@ -196,21 +198,38 @@ class GroundTruthBuilder:
             else:
                 state.gone.add(step.object)
 
-    def _initial_openings(self) -> dict[str, float]:
-        return {name: owner.initial.get(name, 0.0) for name, (_, owner) in self._part_specs.items()}
+    def _initial_state(self, start: UavPose) -> _State:
+        """Scene state at the episode start: objects where placed, drawers as initialised."""
+        return _State(
+            uav_xy=(start.pos[0], start.pos[1]),
+            uav_z=start.pos[2],
+            yaw=start.yaw_deg,
+            bottoms={i: o.pos for i, o in self.objects.items()},
+            openings={
+                name: owner.initial.get(name, 0.0) for name, (_, owner) in self._part_specs.items()
+            },
+        )
+
+    def first_reference(
+        self, arm_steps: tuple[ArmStepSpec, ...]
+    ) -> tuple[np.ndarray, tuple[float, float] | None]:
+        """Reference point of the first ARM object and, for front-approached parts, its front
+        axis (the UAV start is sampled around it)."""
+        first = arm_steps[0].object
+        ref = self._ref(self._initial_state(UavPose(pos=(0.0, 0.0, 0.0), yaw_deg=0.0)), first)
+        front = None
+        if first in self.parts:
+            spec, owner = self._part_specs[first]
+            if spec.approach_front:
+                front = rotate_xy(1.0, 0.0, owner.yaw_deg)
+        return np.array([ref.x, ref.y, ref.z]), front
 
     # ---- public -----------------------------------------------------------------------
     def build(
         self, start: UavPose, arm_steps: tuple[ArmStepSpec, ...]
     ) -> tuple[list[UavStep | ArmStep], list[UavPose]]:
         """GT plan and the UAV pose after each of its steps."""
-        state = _State(
-            uav_xy=(start.pos[0], start.pos[1]),
-            uav_z=start.pos[2],
-            yaw=start.yaw_deg,
-            bottoms={i: o.pos for i, o in self.objects.items()},
-            openings=self._initial_openings(),
-        )
+        state = self._initial_state(start)
         self._check_arm(state, state.uav_xy, state.uav_xy, state.uav_z, set())
         plan: list[UavStep | ArmStep] = []
         poses: list[UavPose] = []
@@ -232,24 +251,3 @@ class GroundTruthBuilder:
 
 def _pose(state: _State) -> UavPose:
     return UavPose(pos=(state.uav_xy[0], state.uav_xy[1], state.uav_z), yaw_deg=state.yaw)
-
-
-def first_reference(
-    builder: GroundTruthBuilder, arm_steps: tuple[ArmStepSpec, ...]
-) -> tuple[np.ndarray, tuple[float, float] | None]:
-    """Reference point of the first ARM object and, for front-approached parts, its front axis."""
-    first = arm_steps[0].object
-    state = _State(
-        (0.0, 0.0),
-        0.0,
-        0.0,
-        {i: o.pos for i, o in builder.objects.items()},
-        builder._initial_openings(),
-    )
-    ref = builder._ref(state, first)
-    front = None
-    if first in builder.parts:
-        spec, owner = builder._part_specs[first]
-        if spec.approach_front:
-            front = rotate_xy(1.0, 0.0, owner.yaw_deg)
-    return np.array([ref.x, ref.y, ref.z]), front
