@@ -17,6 +17,7 @@ from vlm_bench.errors import VlmBenchError
 from vlm_bench.parsing import plan_json_schema
 from vlm_bench.prompting import build_prompt
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
+from vlm_bench.runner.interrupt import StopFlag
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.runner.snapshots import SnapshotSource
 from vlm_bench.storage import RunStore
@@ -65,6 +66,7 @@ class EpisodePipeline:
     def __init__(
         self, config: RunConfig, store: RunStore, backend: Callable[[], Backend],
         snapshots: SnapshotSource, advance: Callable[[int], None] | None = None,
+        stop: StopFlag | None = None,
     ) -> None:
         """Set up the pipeline of one run.
 
@@ -75,6 +77,8 @@ class EpisodePipeline:
                 resume of a finished run never loads the model.
             snapshots: Source of snapshot PNGs.
             advance: Progress callback, called with the number of episodes finished.
+            stop: Checked between batches; a requested stop raises ``KeyboardInterrupt``
+                after the finished episodes are written.
         """
         self.config = config
         self.store = store
@@ -83,6 +87,7 @@ class EpisodePipeline:
         self.advance = advance or (lambda n: None)
         self.stats = PipelineStats()
         self._episode: Episode | None = None
+        self.stop = stop or StopFlag()
 
     def run(self, refs: Sequence[EpisodeRef]) -> PipelineStats:
         """Evaluate every episode of ``refs`` that has no ok record yet."""
@@ -91,6 +96,7 @@ class EpisodePipeline:
         self.stats.skipped = len(refs) - len(pending)
         self.advance(self.stats.skipped)
         for batch in _chunks(pending, self.config.generation.batch_size):
+            self.stop.check()
             self._run_batch([self._prepare(ref) for ref in batch])
         return self.stats
 

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from vlm_bench.backends import Backend, resolve_backend, split_model
 from vlm_bench.errors import ConfigError
+from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import progress_bar
 from vlm_bench.runner.selection import select_episodes
@@ -118,9 +119,10 @@ def execute_run(
     lazy = _LazyBackend(config, backend)
     with RunStore.create_or_resume(run_dir, config, make_manifest(config, backend_name)) as store, \
             _snapshot_source(config, cache_dir) as snapshots, \
-            progress_bar(len(refs), f"{store.paths.run_id}", enabled=progress) as advance:
+            progress_bar(len(refs), f"{store.paths.run_id}", enabled=progress) as advance, \
+            deferred_interrupt() as stop:
         try:
-            stats = EpisodePipeline(config, store, lazy, snapshots, advance).run(refs)
+            stats = EpisodePipeline(config, store, lazy, snapshots, advance, stop).run(refs)
         finally:
             lazy.close()
         records = tuple(store.records[r.key] for r in refs if r.key in store.records)
