@@ -12,7 +12,7 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.episodes.ground_truth import DRAWER_PULL
 from vlm_bench.executor.executor import execute_plan, next_arm_step, run_move
 from vlm_bench.executor.loop import SimLoop
-from vlm_bench.executor.references import Reference
+from vlm_bench.executor.references import Reference, StepReferences
 from vlm_bench.executor.uav_move import move_target
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.sim.scene import build_scene
@@ -27,12 +27,8 @@ CASES = [
     ("standard_pick_place", 0),
     ("standard_pick_place", 1),
     ("standard_pick_place", 2),
-    # The GT now approaches a place destination at the held object's resting point; the
-    # executor's references still use the destination's centre (issue 4 follow-up).
-    pytest.param("drawer_interaction", 0, marks=pytest.mark.xfail(
-        strict=True, reason="executor place reference differs from the GT's resting point")),
-    pytest.param("drawer_interaction", 2, marks=pytest.mark.xfail(
-        strict=True, reason="executor place reference differs from the GT's resting point")),
+    ("drawer_interaction", 0),
+    ("drawer_interaction", 2),
     ("spatial_ref_top_drawer", 1),
     ("hybrid_interaction_stove", 1),
 ]
@@ -43,11 +39,12 @@ def test_gt_moves_end_at_gt_poses(task: str, seed: int) -> None:
     episode = make_episode(task, seed)
     scene = build_scene(episode)
     loop = SimLoop(scene)
+    refs = StepReferences(episode, scene.model)
     plan = episode.gt_plan
     checked = 0
     for index, step in enumerate(plan):
         if isinstance(step, UavStep):
-            run_move(loop, episode, step, next_arm_step(plan, index))
+            run_move(loop, refs, step, next_arm_step(plan, index))
             expected = np.array(episode.gt_uav_poses[index].pos)
             error = float(np.linalg.norm(loop.uav_position() - expected))
             assert error < GT_TOL, f"step {index} {step.direction}: {error:.3f} m from GT"
@@ -59,6 +56,8 @@ def test_gt_moves_end_at_gt_poses(task: str, seed: int) -> None:
             scene.data.qpos[adr] = DRAWER_PULL if step.skill == "pull" else 0.0
             mujoco.mj_forward(scene.model, scene.data)
             loop.take_collisions()
+        elif step.skill == "pick":
+            loop.held = step.object  # the place that follows approaches the held object's rest
     assert checked >= 1
     assert abs(loop.uav_yaw_deg() - episode.uav_start.yaw_deg) < 1.0
 

@@ -2,7 +2,8 @@
 
 Before each ARM step whose object is out of reach, a horizontal move is inserted whose direction
 is the bearing from the UAV to the object in the UAV body frame, quantised to eight sectors; then
-``up``/``down`` if the operating altitude differs by more than a threshold. The UAV's pose is
+``up``/``down`` if the operating altitude differs by more than a threshold (climbing first only
+where level flight would sweep the stowed arm through an obstacle). The UAV's pose is
 tracked with ideal kinematics (the executor's stopping rule) and the scene's state is tracked
 through the skills' effects (picked objects travel, drawers open), so later steps are judged
 from where things really are. Any decision that lies within a safety margin of its threshold
@@ -12,6 +13,7 @@ raises :class:`AmbiguousGeometry`, and the caller resamples the seed.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,10 +39,15 @@ VERTICAL_MARGIN = 0.06  # m around the vertical threshold
 UAV_CLEARANCE = 0.50  # m, rotor tip radius: horizontal clearance from tall fixtures
 DRAWER_PULL = 0.35  # m, nominal opening after a pull (SPEC §7: >= 0.35)
 DRAWER_FLOOR_BELOW_HANDLE = 0.10  # m
+DRAWER_FRONT_ABOVE_HANDLE = 0.24  # m, top edge of a drawer front above its handle
 
 
 class AmbiguousGeometry(ValueError):
     """A GT decision lies too close to a threshold (or is infeasible); resample."""
+
+
+class PathBlocked(AmbiguousGeometry):
+    """A flight segment would sweep the UAV or its stowed arm through an obstacle."""
 
 
 @dataclass
@@ -55,7 +62,9 @@ class _State:
 
 
 @dataclass(frozen=True)
-class _Ref:
+class Reference:
+    """Where the UAV approaches an ARM step's object: point (m, world) and horizontal stand-off."""
+
     x: float
     y: float
     z: float
@@ -88,14 +97,47 @@ class GroundTruthBuilder:
         ]
 
     # ---- references -------------------------------------------------------------------
-    def _ref(self, state: _State, obj_id: str) -> _Ref:
+    def _ref(self, state: _State, obj_id: str) -> Reference:
         if obj_id in self.parts:
             spec, _ = self._part_specs[obj_id]
             hx, hy, hz = self._handle(state, obj_id)
-            return _Ref(hx, hy, hz, spec.standoff or self.geometry.standoff_horizontal)
+            return Reference(hx, hy, hz, spec.standoff or self.geometry.standoff_horizontal)
         kind = object_kind(self.objects[obj_id].kind)
         bx, by, bz = state.bottoms[obj_id]
-        return _Ref(bx, by, bz + kind.size[2] / 2, self.geometry.standoff_horizontal)
+        return Reference(bx, by, bz + kind.size[2] / 2, self.geometry.standoff_horizontal)
+
+    def _step_ref(self, state: _State, obj_id: str, skill: str) -> Reference:
+        """Reference of an ARM step: a place approaches where the held object will rest (the
+        destination's top, not its box centre); every other skill its object's reference."""
+        ref = self._ref(state, obj_id)
+        if skill == "place" and state.held is not None and state.held in self.objects:
+            tx, ty, tz = self._top_for(state, obj_id)
+            half = object_kind(self.objects[state.held].kind).size[2] / 2
+            ref = Reference(tx, ty, tz + half, ref.standoff)
+        return ref
+
+    def step_reference(
+        self,
+        obj_id: str,
+        skill: str,
+        bottoms: Mapping[str, tuple[float, float, float]],
+        openings: Mapping[str, float],
+        held: str | None = None,
+    ) -> Reference | None:
+        """The reference the GT uses for an ARM step, from a scene state (e.g. a live
+        simulation's): object bottom centres, drawer openings and the held object.
+        ``None`` if the step's object is not in the scene."""
+        if obj_id not in self.objects and obj_id not in self.parts:
+            return None
+        state = _State(
+            uav_xy=(0.0, 0.0),
+            uav_z=0.0,
+            yaw=0.0,
+            bottoms=dict(bottoms),
+            openings=dict(openings),
+            held=held,
+        )
+        return self._step_ref(state, obj_id, skill)
 
     def _handle(self, state: _State, part: str) -> tuple[float, float, float]:
         """Handle position with the drawer's current opening along its owner's front axis."""
@@ -123,7 +165,7 @@ class GroundTruthBuilder:
         stow_bottom = z - 0.5
         for obj_id, corners, top in self._tall:
             if top > stow_bottom and segment_rect_distance(a, b, corners) < UAV_CLEARANCE:
-                raise AmbiguousGeometry(f"UAV path passes too close to {obj_id}")
+                raise PathBlocked(f"UAV path passes too close to {obj_id}")
 
     def _check_arm(
         self,
@@ -143,41 +185,99 @@ class GroundTruthBuilder:
             if bz + kind.size[2] <= lowest:
                 continue
             corners = rect_corners((bx, by), kind.size[:2], self.objects[obj_id].yaw_deg)
-            if segment_rect_distance(a, b, corners) < geo.stow_radius:
-                raise AmbiguousGeometry(f"the stowed arm would hit {obj_id}")
+            if _approaches(a, b, corners, geo.stow_radius):
+                raise PathBlocked(f"the stowed arm would hit {obj_id}")
+        for part, corners, top in self._open_drawers(state):
+            if part not in exclude and top > lowest and _approaches(a, b, corners, geo.stow_radius):
+                raise PathBlocked(f"the stowed arm would hit the open {part}")
 
-    def _approach(self, state: _State, ref: _Ref, target: str) -> list[tuple[UavStep, UavPose]]:
+    def _open_drawers(self, state: _State) -> list[tuple[str, np.ndarray, float]]:
+        """(part id, footprint corners, top z) of every open drawer, sticking out of the front
+        of its cabinet."""
+        out = []
+        for name, (spec, owner) in self._part_specs.items():
+            opening = state.openings.get(name, 0.0)
+            if spec.kind != "drawer" or opening <= 0:
+                continue
+            depth, width, _ = object_kind(owner.kind).size
+            dx, dy = rotate_xy(depth / 2 + opening / 2, 0.0, owner.yaw_deg)
+            corners = rect_corners(
+                (owner.pos[0] + dx, owner.pos[1] + dy), (opening + 0.04, width), owner.yaw_deg
+            )
+            out.append((name, corners, owner.pos[2] + spec.handle[2] + DRAWER_FRONT_ABOVE_HANDLE))
+        return out
+
+    def _approach(
+        self, state: _State, ref: Reference, target: str
+    ) -> list[tuple[UavStep, UavPose]]:
         """UAV moves that bring ``ref`` into reach, each with the pose it ends at."""
         geo = self.geometry
-        steps: list[tuple[UavStep, UavPose]] = []
-        dist = math.hypot(ref.x - state.uav_xy[0], ref.y - state.uav_xy[1])
-        if abs(dist - geo.reach_horizontal) < REACH_MARGIN:
-            raise AmbiguousGeometry("object lies at the edge of reach")
-        if dist > geo.reach_horizontal:
-            bearing = body_bearing_deg(state.uav_xy, state.yaw, (ref.x, ref.y))
-            direction, margin = quantise_bearing(bearing)
-            if margin < SECTOR_MARGIN_DEG:
-                raise AmbiguousGeometry(f"bearing {bearing:.1f} deg is near a sector boundary")
-            heading = state.yaw + direction.angle_deg
-            stop = move_stop(state.uav_xy, heading, (ref.x, ref.y), ref.standoff, geo.max_move)
-            if math.dist(stop, (ref.x, ref.y)) > geo.reach_horizontal - REACH_MARGIN:
-                raise AmbiguousGeometry("the move cannot bring the object into reach")
-            self._check_path(state.uav_xy, stop, state.uav_z)
-            self._check_arm(state, state.uav_xy, stop, state.uav_z, {target})
-            state.uav_xy = (round(stop[0], 4), round(stop[1], 4))
-            steps.append((UavStep(direction=direction), _pose(state)))
         op_z = geo.operating_altitude(ref.z)
         dz = op_z - state.uav_z
         if abs(abs(dz) - geo.vertical_threshold) < VERTICAL_MARGIN:
             raise AmbiguousGeometry("altitude difference is near the vertical threshold")
-        if abs(dz) > geo.vertical_threshold:
-            low = min(op_z, state.uav_z)
-            self._check_arm(state, state.uav_xy, state.uav_xy, low, {target})
-            state.uav_z = round(op_z, 4)
-            steps.append(
-                (UavStep(direction=Direction.UP if dz > 0 else Direction.DOWN), _pose(state))
-            )
+        vertical = abs(dz) > geo.vertical_threshold
+        start = (state.uav_xy, state.uav_z)
+        try:
+            return self._legs(state, ref, target, op_z if vertical else None, climb_first=False)
+        except PathBlocked:
+            if not (vertical and dz > 0):
+                raise
+        # Level flight would sweep the stowed arm through an obstacle: climb first.
+        state.uav_xy, state.uav_z = start
+        return self._legs(state, ref, target, op_z, climb_first=True)
+
+    def _legs(
+        self,
+        state: _State,
+        ref: Reference,
+        target: str,
+        op_z: float | None,
+        climb_first: bool,
+    ) -> list[tuple[UavStep, UavPose]]:
+        """The horizontal leg (if out of reach) and the vertical one (if ``op_z``), in the
+        SPEC's order (horizontal first) unless ``climb_first``."""
+        steps: list[tuple[UavStep, UavPose]] = []
+        if op_z is not None and climb_first:
+            steps.append(self._vertical(state, op_z, target))
+        # Flying level below a pending climb, the stowed arm must clear even the target drawer.
+        strict = op_z is not None and op_z > state.uav_z and not climb_first
+        horizontal = self._horizontal(state, ref, set() if strict else {target})
+        if horizontal is not None:
+            steps.append(horizontal)
+        if op_z is not None and not climb_first:
+            steps.append(self._vertical(state, op_z, target))
         return steps
+
+    def _horizontal(
+        self, state: _State, ref: Reference, exclude: set[str]
+    ) -> tuple[UavStep, UavPose] | None:
+        """The horizontal move that brings ``ref`` into reach (None if it already is)."""
+        geo = self.geometry
+        dist = math.hypot(ref.x - state.uav_xy[0], ref.y - state.uav_xy[1])
+        if abs(dist - geo.reach_horizontal) < REACH_MARGIN:
+            raise AmbiguousGeometry("object lies at the edge of reach")
+        if dist <= geo.reach_horizontal:
+            return None
+        bearing = body_bearing_deg(state.uav_xy, state.yaw, (ref.x, ref.y))
+        direction, margin = quantise_bearing(bearing)
+        if margin < SECTOR_MARGIN_DEG:
+            raise AmbiguousGeometry(f"bearing {bearing:.1f} deg is near a sector boundary")
+        heading = state.yaw + direction.angle_deg
+        stop = move_stop(state.uav_xy, heading, (ref.x, ref.y), ref.standoff, geo.max_move)
+        if math.dist(stop, (ref.x, ref.y)) > geo.reach_horizontal - REACH_MARGIN:
+            raise AmbiguousGeometry("the move cannot bring the object into reach")
+        self._check_path(state.uav_xy, stop, state.uav_z)
+        self._check_arm(state, state.uav_xy, stop, state.uav_z, exclude)
+        state.uav_xy = (round(stop[0], 4), round(stop[1], 4))
+        return UavStep(direction=direction), _pose(state)
+
+    def _vertical(self, state: _State, op_z: float, target: str) -> tuple[UavStep, UavPose]:
+        """The up/down move to the operating altitude ``op_z``."""
+        self._check_arm(state, state.uav_xy, state.uav_xy, min(op_z, state.uav_z), {target})
+        direction = Direction.UP if op_z > state.uav_z else Direction.DOWN
+        state.uav_z = round(op_z, 4)
+        return UavStep(direction=direction), _pose(state)
 
     # ---- skill effects ----------------------------------------------------------------
     def _apply(self, state: _State, step: ArmStepSpec) -> None:
@@ -234,12 +334,7 @@ class GroundTruthBuilder:
         plan: list[UavStep | ArmStep] = []
         poses: list[UavPose] = []
         for spec in arm_steps:
-            ref = self._ref(state, spec.object)
-            if spec.skill == "place" and state.held is not None:
-                # Where the held object will rest: the destination's top, not its box centre.
-                tx, ty, tz = self._top_for(state, spec.object)
-                half = object_kind(self.objects[state.held].kind).size[2] / 2
-                ref = _Ref(tx, ty, tz + half, ref.standoff)
+            ref = self._step_ref(state, spec.object, spec.skill)
             for move, pose in self._approach(state, ref, spec.object):
                 plan.append(move)
                 poses.append(pose)
@@ -247,6 +342,15 @@ class GroundTruthBuilder:
             poses.append(_pose(state))
             self._apply(state, spec)
         return plan, poses
+
+
+def _approaches(
+    a: tuple[float, float], b: tuple[float, float], corners: np.ndarray, radius: float
+) -> bool:
+    """Whether segment a→b comes within ``radius`` of a rectangle, other than by starting there
+    and moving away (the arm got there legitimately: it was working at that obstacle)."""
+    closest = segment_rect_distance(a, b, corners)
+    return closest < radius and closest < segment_rect_distance(a, a, corners) - 1e-9
 
 
 def _pose(state: _State) -> UavPose:

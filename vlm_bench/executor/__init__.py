@@ -1,8 +1,10 @@
 """Skill executor (SPEC §7): replays validated plans in the simulator and checks goals."""
 
-from vlm_bench.executor.executor import execute_plan, next_arm_step, run_move
+from vlm_bench.executor.executor import execute_plan, next_arm_step, run_move, target_ids
 from vlm_bench.executor.goals import check_goal, check_goals
 from vlm_bench.executor.loop import SimLoop, SimulatorUnstable
+from vlm_bench.executor.references import StepReferences
+from vlm_bench.executor.skills import default_skills
 from vlm_bench.executor.types import (
     ExecutionResult,
     ExecutorConfig,
@@ -10,6 +12,7 @@ from vlm_bench.executor.types import (
     StepOutcome,
     StepStatus,
 )
+from vlm_bench.executor.vla_metrics import vla_scores
 
 __all__ = [
     "ExecutionResult",
@@ -18,10 +21,14 @@ __all__ = [
     "SimLoop",
     "SimulatorUnstable",
     "StepOutcome",
+    "StepReferences",
     "StepStatus",
     "check_goal",
     "check_goals",
+    "default_skills",
     "execute_plan",
     "next_arm_step",
     "run_move",
+    "target_ids",
+    "vla_scores",
 ]

@@ -1,20 +1,40 @@
-"""Replay a validated plan in the simulator, step by step, stopping at the first failure."""
+"""Replay a validated plan in the simulator, step by step, stopping at the first failure.
+
+After the last step the scene settles (servo targets and UAV setpoint held), then the task's
+goal predicates are checked, non-target objects' displacement is measured and the VLA metrics
+are computed.
+"""
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from typing import Literal
 
-from vlm_bench.executor.grasping import grasp_skills
+import numpy as np
+
+from vlm_bench.catalog.world import object_kind
+from vlm_bench.executor.goals import check_goals, describe_goal
 from vlm_bench.executor.loop import ArmSkill, SimLoop, SimulatorUnstable
-from vlm_bench.executor.references import object_reference
-from vlm_bench.executor.types import ExecutionResult, ExecutorConfig, StepOutcome
+from vlm_bench.executor.references import StepReferences
+from vlm_bench.executor.skills import default_skills
+from vlm_bench.executor.types import (
+    ArmTrace,
+    ExecutionResult,
+    ExecutorConfig,
+    StepOutcome,
+)
 from vlm_bench.executor.uav_move import fly_to, move_target, stow_arm
+from vlm_bench.executor.vla_metrics import vla_scores
+from vlm_bench.sim import constants as c
+from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene, build_scene
+from vlm_bench.sim.uav_control import GustConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep, UavStep
 
 PlanSteps = Sequence[UavStep | ArmStep]
+SkillFactory = Callable[[SimLoop], dict[str, ArmSkill]]
 
 
 def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
@@ -22,14 +42,105 @@ def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
     return next((s for s in plan[index + 1 :] if isinstance(s, ArmStep)), None)
 
 
-def run_move(loop: SimLoop, episode: Episode, step: UavStep, arm: ArmStep | None) -> None:
+def run_move(loop: SimLoop, refs: StepReferences, step: UavStep, arm: ArmStep | None) -> None:
     """Fly ``step`` (arm stowed first), stopping for ``arm``, the next ARM step, if any."""
-    ref = object_reference(episode, loop.model, loop.data, arm.object) if arm else None
+    ref = refs(loop.data, arm.object, arm.skill, loop.held) if arm else None
     flight = loop.config.flight
     stow_arm(loop, flight)
     start = loop.controller.setpoint.copy()
-    target = move_target(start, episode.uav_start.yaw_deg, step, ref)
+    target = move_target(start, refs.episode.uav_start.yaw_deg, step, ref)
     fly_to(loop, target, flight)
+
+
+def episode_scene(episode: Episode, config: ExecutorConfig) -> Scene:
+    """The episode's scene with the configured gusts on the UAV."""
+    gust = (
+        GustConfig(
+            force_std=config.uav_noise, torque_std=0.05 * config.uav_noise, seed=config.noise_seed
+        )
+        if config.uav_noise > 0
+        else None
+    )
+    return build_scene(episode, gust=gust)
+
+
+def target_ids(episode: Episode) -> set[str]:
+    """Objects the task is about (GT ARM objects and goal arguments); others are non-targets."""
+    ids = {s.object for s in episode.gt_plan if isinstance(s, ArmStep)}
+    ids |= {s.target for s in episode.gt_plan if isinstance(s, ArmStep) and s.target}
+    for goal in episode.goals:
+        ids.add(goal.object)
+        if goal.target:
+            ids.add(goal.target)
+    return ids
+
+
+def _agent(step: UavStep | ArmStep) -> Literal["UAV", "ARM"]:
+    return "UAV" if isinstance(step, UavStep) else "ARM"
+
+
+class _Run:
+    """One plan replay: the loop, references, skills and the outcomes so far."""
+
+    def __init__(self, episode: Episode, loop: SimLoop, skills: dict[str, ArmSkill]) -> None:
+        self.episode = episode
+        self.loop = loop
+        self.refs = StepReferences(episode, loop.model)
+        self.skills = skills
+
+    def arm_step(self, step: ArmStep) -> tuple[str | None, ArmTrace]:
+        loop = self.loop
+        ref = self.refs(loop.data, step.object, step.skill, loop.held)
+        if ref is None:
+            return f"unknown object {step.object!r}", ArmTrace(object=step.object, known=False)
+        point = np.array([ref.x, ref.y, ref.z])
+        base = float(np.linalg.norm(loop.data.body(c.ARM_BASE_BODY).xpos - point))
+        if step.skill == "place" and loop.held is not None:
+            loop.watch(point, point)  # the held object's centre vs where it should rest
+        else:
+            loop.watch(*object_bounds(loop.model, loop.data, step.object, solid_only=True))
+        try:
+            if step.skill in self.skills:
+                reason = self.skills[step.skill](loop, self.episode, step)
+            else:
+                reason = f"skill {step.skill!r} is not available in the executor"
+        finally:
+            initial, best, tilt = loop.unwatch()
+        attempted = initial is not None and best is not None and best < initial - 0.05
+        trace = ArmTrace(
+            object=step.object,
+            known=True,
+            base_distance=base,
+            ee_distance=best,
+            tilt_deg=tilt,
+            attempted=attempted,
+        )
+        return reason, trace
+
+    def step(self, index: int, step: UavStep | ArmStep, plan: PlanSteps) -> StepOutcome:
+        loop = self.loop
+        t0 = loop.time
+        loop.take_collisions()
+        arm: ArmTrace | None = None
+        try:
+            if isinstance(step, UavStep):
+                run_move(loop, self.refs, step, next_arm_step(plan, index))
+                reason = None
+            else:
+                reason, arm = self.arm_step(step)
+        except SimulatorUnstable as err:
+            reason = str(err)
+            if isinstance(step, ArmStep):
+                arm = ArmTrace(object=step.object, known=True)
+        return StepOutcome(
+            index=index,
+            agent=_agent(step),
+            status="ok" if reason is None else "failed",
+            reason=reason,
+            duration_s=loop.time - t0,
+            collisions=loop.take_collisions(),
+            arm=arm,
+        )
 
 
 def execute_plan(
@@ -37,53 +148,73 @@ def execute_plan(
     plan: PlanSteps,
     config: ExecutorConfig | None = None,
     scene: Scene | None = None,
-    arm_skills: Callable[[SimLoop], dict[str, ArmSkill]] = grasp_skills,
+    arm_skills: SkillFactory = default_skills,
+    observers: Sequence[Callable[[SimLoop], None]] = (),
 ) -> ExecutionResult:
     """Replay ``plan`` on ``episode``'s scene (built fresh unless ``scene`` is given).
 
-    ARM steps run through the skills ``arm_skills`` makes for the loop (default: scripted
-    ``pick`` and ``place``); a skill missing there fails the step with a reason.
-    Execution stops at the first failed step; later steps are skipped.
+    Args:
+        episode: The episode (scene, goals, GT used for non-target objects).
+        plan: Validated plan steps.
+        config: Executor settings (default: the benchmark's).
+        scene: A scene to run on instead of building one (it is modified).
+        arm_skills: Makes the ARM skills for the loop (default: the scripted skills); a skill
+            missing there fails its step with a reason. Hierarchical pipelines pass
+            policy-driven skills here.
+        observers: Called after every control step (e.g. a video recorder).
+
+    Execution stops at the first failed step; later steps are skipped. The result is always
+    returned (simulator blow-ups become failed steps).
     """
     wall0 = time.perf_counter()
-    loop = SimLoop(scene or build_scene(episode), config)
-    skills = arm_skills(loop)
+    config = config or ExecutorConfig()
+    loop = SimLoop(scene or episode_scene(episode, config), config)
+    loop.observers.extend(observers)
+    run = _Run(episode, loop, arm_skills(loop))
+    movable = [o.id for o in episode.objects if object_kind(o.kind).movable]
+    start = {i: np.array(loop.data.body(i).xpos) for i in movable}
     outcomes: list[StepOutcome] = []
     failure: str | None = None
+    collided: set[str] = set()
     for index, step in enumerate(plan):
         if failure is not None:
-            outcomes.append(StepOutcome(index=index, status="skipped", reason="earlier failure"))
-            continue
-        t0 = loop.time
-        loop.take_collisions()
-        reason: str | None
-        try:
-            if isinstance(step, UavStep):
-                run_move(loop, episode, step, next_arm_step(plan, index))
-                reason = None
-            elif step.skill in skills:
-                reason = skills[step.skill](loop, episode, step)
-            else:
-                reason = f"skill {step.skill!r} is not available in the executor"
-        except SimulatorUnstable as err:
-            reason = str(err)
-        outcomes.append(
-            StepOutcome(
-                index=index,
-                status="ok" if reason is None else "failed",
-                reason=reason,
-                duration_s=loop.time - t0,
-                collisions=loop.take_collisions(),
+            outcomes.append(
+                StepOutcome(
+                    index=index, agent=_agent(step), status="skipped", reason="earlier failure"
+                )
             )
-        )
-        if reason is not None:
-            failure = f"step {index}: {reason}"
-    done = sum(o.status == "ok" for o in outcomes)
+            continue
+        outcome = run.step(index, step, plan)
+        outcomes.append(outcome)
+        collided.update(outcome.collisions)
+        if outcome.reason is not None:
+            failure = f"step {index}: {outcome.reason}"
+    try:
+        loop.hold(config.settle_s)
+    except SimulatorUnstable as err:
+        failure = failure or f"settling: {err}"
+    goals = check_goals(episode, loop.model, loop.data)
+    steps_ok = all(o.status == "ok" for o in outcomes)
+    if failure is None and not all(goals):
+        missed = [describe_goal(g) for g, ok in zip(episode.goals, goals, strict=True) if not ok]
+        failure = "goal not met: " + ", ".join(missed)
+    targets = target_ids(episode)
+    displacement = {
+        i: float(np.linalg.norm(loop.data.body(i).xpos - p))
+        for i, p in start.items()
+        if i not in targets
+    }
+    scores = vla_scores(outcomes, goals, displacement, config.metrics)
     return ExecutionResult(
         steps=tuple(outcomes),
-        exec_success=failure is None,
-        n_steps_done=done,
+        steps_ok=steps_ok,
+        exec_success=steps_ok and all(goals) and failure is None,
+        n_steps_done=sum(o.status == "ok" for o in outcomes),
         failure_reason=failure,
+        goals=goals,
+        displacement=displacement,
+        uav_collisions=tuple(sorted(collided)),
+        scores=scores,
         final_uav_pose=loop.uav_pose(),
         sim_time_s=loop.time,
         wall_time_s=time.perf_counter() - wall0,

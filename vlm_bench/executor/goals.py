@@ -146,3 +146,9 @@ def check_goals(
     mujoco.mj_kinematics(model, data)
     state = GoalState(episode, model, data)
     return tuple(check_goal(state, g) for g in (episode.goals if goals is None else goals))
+
+
+def describe_goal(goal: Goal) -> str:
+    """``predicate(object[, target])``, as failure reasons show it."""
+    args = goal.object if goal.target is None else f"{goal.object}, {goal.target}"
+    return f"{goal.predicate}({args})"

@@ -55,6 +55,12 @@ class SimLoop:
         self._uav_qpos = int(uav.qposadr[0])
         self._uav_dof = int(uav.dofadr[0])
         self._bad_warnings = self._count_bad_warnings()
+        self._tcp = int(self.model.site(c.TCP_SITE).id)
+        self.held: str | None = None
+        """The object the gripper holds (set by the grasping skills)."""
+        self.observers: list[Callable[[SimLoop], None]] = []
+        """Called after every control step (video recorders, policies' logs)."""
+        self._watch: _Watch | None = None
 
     def _count_bad_warnings(self) -> int:
         return sum(int(self.data.warning[int(w)].number) for w in _BAD_STATE_WARNINGS)
@@ -71,6 +77,40 @@ class SimLoop:
         for _ in range(c.STEPS_PER_CONTROL):
             self.physics_step()
         self._check_stable()
+        if self._watch is not None:
+            self._watch.update(self)
+        for observer in self.observers:
+            observer(self)
+
+    def hold(self, seconds: float) -> None:
+        """Advance ``seconds`` with the current servo targets and UAV setpoint."""
+        for _ in range(max(1, round(seconds / c.CONTROL_DT))):
+            self.control_step()
+
+    # ---- interaction measurements (for S_arm) -------------------------------------------
+    def watch(self, lo: np.ndarray, hi: np.ndarray) -> None:
+        """Start tracking the closest approach to the box [lo, hi] of the TCP, or of the held
+        object's centre while something is held (a point is a box with lo == hi)."""
+        self._watch = _Watch(np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64))
+        self._watch.update(self)
+
+    def unwatch(self) -> tuple[float | None, float | None, float | None]:
+        """Stop tracking: (initial distance, closest distance, TCP tilt there in degrees)."""
+        w, self._watch = self._watch, None
+        if w is None:
+            return None, None, None
+        return w.initial, w.best, w.tilt_deg
+
+    def effector_point(self) -> np.ndarray:
+        """Centre of the held object, or the TCP when nothing is held (m, world)."""
+        if self.held is not None:
+            return np.array(self.data.body(self.held).xipos, dtype=np.float64)
+        return np.array(self.data.site_xpos[self._tcp], dtype=np.float64)
+
+    def tcp_tilt_deg(self) -> float:
+        """Angle between the TCP's approach axis (z) and world down (deg)."""
+        zz = float(self.data.site_xmat[self._tcp][8])
+        return math.degrees(math.acos(max(-1.0, min(1.0, -zz))))
 
     def _check_stable(self) -> None:
         d = self.data
@@ -126,6 +166,24 @@ class SimLoop:
         """Current UAV pose."""
         p = self.uav_position()
         return UavPose(pos=(float(p[0]), float(p[1]), float(p[2])), yaw_deg=self.uav_yaw_deg())
+
+
+class _Watch:
+    def __init__(self, lo: np.ndarray, hi: np.ndarray) -> None:
+        self.lo = lo
+        self.hi = hi
+        self.initial: float | None = None
+        self.best: float | None = None
+        self.tilt_deg: float | None = None
+
+    def update(self, loop: SimLoop) -> None:
+        p = loop.effector_point()
+        d = float(np.linalg.norm(p - np.clip(p, self.lo, self.hi)))
+        if self.initial is None:
+            self.initial = d
+        if self.best is None or d < self.best:
+            self.best = d
+            self.tilt_deg = loop.tcp_tilt_deg()
 
 
 ArmSkill = Callable[[SimLoop, Episode, ArmStep], str | None]

@@ -1,47 +1,38 @@
-"""Reference points of plan objects in the live simulation, mirroring the GT's ``_ref``.
+"""Reference points of ARM-step objects in the live simulation, computed by the GT's own rule.
 
-The ground truth (``vlm_bench.episodes.ground_truth``) tracks where each object is with ideal
-kinematics; the executor reads the same points from the simulated state: an object's reference
-is its bottom centre (the body origin) raised by half its catalogue height, a part's is its
-handle site. Both use the same stand-off, so GT plans stop where the GT expects.
+The ground truth tracks the scene with ideal kinematics; the executor reads the same state from
+the simulation (object bottom centres = body origins, drawer openings = slide joints, what the
+gripper holds) and asks :meth:`GroundTruthBuilder.step_reference` for the point, so a GT plan
+stops exactly where the GT expects and a place approaches the held object's resting point.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mujoco
 
-from vlm_bench.catalog.world import object_kind
-from vlm_bench.sim.constants import part_handle_site
+from vlm_bench.episodes.ground_truth import GroundTruthBuilder, Reference
+from vlm_bench.sim.constants import part_joint
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.geometry import APPROACH
+
+__all__ = ["Reference", "StepReferences"]
 
 
-@dataclass(frozen=True)
-class Reference:
-    """Where the UAV approaches an object: point (m, world) and horizontal stand-off (m)."""
+class StepReferences:
+    """Reference points of one episode's objects, read from a live simulation."""
 
-    x: float
-    y: float
-    z: float
-    standoff: float
+    def __init__(self, episode: Episode, model: mujoco.MjModel) -> None:
+        self.episode = episode
+        self.model = model
+        self.builder = GroundTruthBuilder(list(episode.objects), list(episode.parts))
+        self._joints = {p.id: int(model.joint(part_joint(p.id)).qposadr[0]) for p in episode.parts}
 
-
-def object_reference(
-    episode: Episode, model: mujoco.MjModel, data: mujoco.MjData, obj_id: str
-) -> Reference | None:
-    """Reference of object or part ``obj_id`` now; ``None`` if the episode has no such id."""
-    objects = {o.id: o for o in episode.objects}
-    parts = {p.id: p for p in episode.parts}
-    if obj_id in parts:
-        owner = objects[parts[obj_id].parent]
-        specs = [p for p in object_kind(owner.kind).parts if p.name == obj_id]
-        standoff = specs[0].standoff if specs and specs[0].standoff else None
-        x, y, z = (float(v) for v in data.site(part_handle_site(obj_id)).xpos)
-        return Reference(x, y, z, standoff or APPROACH.standoff_horizontal)
-    if obj_id in objects:
-        height = object_kind(objects[obj_id].kind).size[2]
-        x, y, z = (float(v) for v in data.body(obj_id).xpos)
-        return Reference(x, y, z + height / 2, APPROACH.standoff_horizontal)
-    return None
+    def __call__(
+        self, data: mujoco.MjData, obj_id: str, skill: str, held: str | None = None
+    ) -> Reference | None:
+        """The reference of ARM step (``skill``, ``obj_id``) now; ``None`` for unknown ids."""
+        bottoms = {}
+        for o in self.episode.objects:
+            x, y, z = (float(v) for v in data.body(o.id).xpos)
+            bottoms[o.id] = (x, y, z)
+        openings = {part: float(data.qpos[adr]) for part, adr in self._joints.items()}
+        return self.builder.step_reference(obj_id, skill, bottoms, openings, held)

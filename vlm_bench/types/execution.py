@@ -1,0 +1,182 @@
+"""Plan execution in the simulator (SPEC §7): settings, per-step outcomes, the run's summary.
+
+These models cross the executor → runner → storage boundary (a record carries an
+:class:`ExecutionSummary`), so they live in the types layer.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from vlm_bench.types.episode import UavPose
+from vlm_bench.types.world import Frozen
+
+StepStatus = Literal["ok", "failed", "skipped"]
+
+
+class FlightConfig(Frozen):
+    """How UAV ``move`` steps are flown."""
+
+    speed: float = Field(
+        default=0.5, gt=0, le=0.5, description="Cruise speed of the setpoint (m/s)."
+    )
+    accel: float = Field(default=0.5, gt=0, description="Setpoint acceleration (m/s²).")
+    settle_tol: float = Field(
+        default=0.01, gt=0, description="Position error that ends a move (m)."
+    )
+    settle_speed: float = Field(default=0.02, gt=0, description="Speed that ends a move (m/s).")
+    settle_min_s: float = Field(default=0.3, ge=0, description="Hold time after the path (s).")
+    settle_max_s: float = Field(default=4.0, gt=0, description="Longest hold after the path (s).")
+    stow_s: float = Field(default=1.5, gt=0, description="Duration of the arm's stow motion (s).")
+
+
+class VlaMetricConfig(Frozen):
+    """Constants of the paper's VLA metrics (Appendix A.3).
+
+    The SPEC fixes the UAV range (0.5–0.8 m, peak 0.65 m) and the safety kernel (full at
+    ≤ 0.01 m, σ = 2/3 m, 0 at ≥ 2 m); the paper leaves λ, σ_pos, β, σ_arm and d_thresh open,
+    so the values here are ours and documented in the README.
+    """
+
+    pos_mu: float = Field(default=0.65, description="Ideal arm-base distance to the object (m).")
+    pos_min: float = Field(default=0.50, description="Shortest feasible distance d_min (m).")
+    pos_max: float = Field(default=0.80, description="Longest feasible distance d_max (m).")
+    pos_sigma: float = Field(default=0.10, gt=0, description="σ of the positioning kernel (m).")
+    lambda_act: float = Field(default=0.8, ge=0, le=1, description="λ when interaction attempted.")
+    lambda_hov: float = Field(default=0.4, ge=0, le=1, description="λ when only hovering.")
+    arm_beta: float = Field(default=0.3, ge=0, le=1, description="β, weight of S_ori in S_arm.")
+    arm_sigma: float = Field(default=0.05, gt=0, description="σ_arm of the TCP kernel (m).")
+    arm_thresh: float = Field(default=0.20, gt=0, description="d_thresh of the TCP kernel (m).")
+    ori_max_tilt_deg: float = Field(
+        default=15.0, gt=0, description="TCP axis deviation that breaks S_ori (deg)."
+    )
+    safe_deadband: float = Field(
+        default=0.01, ge=0, description="Total displacement still scored 100 (m)."
+    )
+    safe_sigma: float = Field(default=2.0 / 3.0, gt=0, description="σ_safe (m).")
+    safe_limit: float = Field(default=2.0, gt=0, description="Δ_limit: 0 at or beyond (m).")
+    w_pos: float = Field(default=0.25, ge=0, description="Weight of S_pos in the VLA total.")
+    w_arm: float = Field(default=0.25, ge=0, description="Weight of S_arm.")
+    w_safe: float = Field(default=0.10, ge=0, description="Weight of S_safe.")
+    w_task: float = Field(default=0.40, ge=0, description="Weight of S_task.")
+
+
+class ExecutorConfig(Frozen):
+    """Executor settings; the defaults are the benchmark's."""
+
+    flight: FlightConfig = Field(default_factory=FlightConfig)
+    metrics: VlaMetricConfig = Field(default_factory=VlaMetricConfig)
+    max_speed_unstable: float = Field(
+        default=50.0, gt=0, description="Any dof speed above this marks the simulator unstable."
+    )
+    settle_s: float = Field(
+        default=1.0, ge=0, description="Simulated time the scene settles before goals (s)."
+    )
+    uav_noise: float = Field(
+        default=0.0,
+        ge=0,
+        description="Gust force std on the UAV (N); 0 = calm (the paper's UAV Disturb.).",
+    )
+    noise_seed: int = Field(default=0, description="Seed of the gust process.")
+
+
+class ArmTrace(Frozen):
+    """What the metrics need from one ARM step (measured, not planned)."""
+
+    object: str = Field(description="The step's object id.")
+    known: bool = Field(description="The object exists in the scene.")
+    base_distance: float | None = Field(
+        default=None, description="Arm base to the object's reference point at step start (m)."
+    )
+    ee_distance: float | None = Field(
+        default=None, description="Closest TCP approach to the object's interaction point (m)."
+    )
+    tilt_deg: float | None = Field(
+        default=None, description="TCP axis deviation from the skill's approach axis at contact."
+    )
+    attempted: bool = Field(default=False, description="The arm moved towards the object.")
+
+
+class StepOutcome(Frozen):
+    """What happened to one plan step."""
+
+    index: int = Field(ge=0, description="Step index in the plan (0-based).")
+    agent: Literal["UAV", "ARM"] = Field(description="Which agent the step commands.")
+    status: StepStatus = Field(description="ok, failed, or skipped (after an earlier failure).")
+    reason: str | None = Field(default=None, description="Why it failed or was skipped.")
+    duration_s: float = Field(default=0.0, ge=0, description="Simulated time the step took (s).")
+    collisions: tuple[str, ...] = Field(
+        default=(), description="Non-robot geoms the robot touched during the step."
+    )
+    arm: ArmTrace | None = Field(default=None, description="ARM steps: measurements.")
+
+
+class VlaScores(Frozen):
+    """The paper's VLA metrics, each in [0, 100]."""
+
+    s_pos: float = Field(ge=0, le=100, description="Base positioning accuracy.")
+    s_arm: float = Field(ge=0, le=100, description="Manipulator efficacy.")
+    s_safe: float = Field(ge=0, le=100, description="Environmental disturbance safety.")
+    s_task: float = Field(ge=0, le=100, description="Sub-goal completion 100·done/K.")
+    total: float = Field(ge=0, le=100, description="Weighted total.")
+
+
+class ExecutionResult(Frozen):
+    """The outcome of replaying one plan."""
+
+    steps: tuple[StepOutcome, ...] = Field(description="One outcome per plan step.")
+    steps_ok: bool = Field(description="Every step succeeded.")
+    exec_success: bool = Field(description="Every step succeeded and every goal holds.")
+    n_steps_done: int = Field(ge=0, description="Steps that finished with status ok.")
+    failure_reason: str | None = Field(default=None, description="Reason of the first failure.")
+    goals: tuple[bool, ...] = Field(default=(), description="Each task goal, after settling.")
+    displacement: dict[str, float] = Field(
+        default_factory=dict, description="Non-target movable objects' displacement (m)."
+    )
+    uav_collisions: tuple[str, ...] = Field(
+        default=(), description="Non-robot geoms the robot touched, whole run."
+    )
+    scores: VlaScores | None = Field(default=None, description="VLA metrics.")
+    final_uav_pose: UavPose = Field(description="UAV pose at the end of execution.")
+    sim_time_s: float = Field(ge=0, description="Simulated time (s).")
+    wall_time_s: float = Field(ge=0, description="Wall-clock time (s).")
+
+    @property
+    def s_task(self) -> float:
+        """Sub-goal completion in percent (0 with no goals)."""
+        return 100.0 * sum(self.goals) / len(self.goals) if self.goals else 0.0
+
+
+class ExecutionSummary(Frozen):
+    """The part of an :class:`ExecutionResult` stored in a run record."""
+
+    exec_success: bool
+    steps_ok: bool
+    n_steps_done: int = Field(ge=0)
+    failure_reason: str | None = None
+    goals: tuple[bool, ...] = ()
+    s_task: float = Field(ge=0, le=100)
+    scores: VlaScores | None = None
+    uav_collisions: tuple[str, ...] = ()
+    displacement_total: float = Field(default=0.0, ge=0)
+    sim_time_s: float = Field(ge=0)
+    wall_time_s: float = Field(ge=0)
+
+    @classmethod
+    def of(cls, result: ExecutionResult) -> ExecutionSummary:
+        """The stored summary of ``result``."""
+        return cls(
+            exec_success=result.exec_success,
+            steps_ok=result.steps_ok,
+            n_steps_done=result.n_steps_done,
+            failure_reason=result.failure_reason,
+            goals=result.goals,
+            s_task=result.s_task,
+            scores=result.scores,
+            uav_collisions=result.uav_collisions,
+            displacement_total=sum(result.displacement.values()),
+            sim_time_s=result.sim_time_s,
+            wall_time_s=result.wall_time_s,
+        )
