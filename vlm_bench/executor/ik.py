@@ -1,38 +1,96 @@
-"""Damped-least-squares IK of the arm's TCP, on a scratch copy of the state.
+"""Inverse kinematics of the arm's TCP with mink, on a robot-only model.
 
-Only the 7 arm joints move (the floating base and the objects stay as they are). A top-down
-target fixes the TCP's z axis to world −z and its x axis to a horizontal heading. The hanging
-arm reaches down with an "elbow-up" posture, so solutions are seeded from a known top-down pose
-(joint 2 near its lower limit) and pulled towards it in the Jacobian's null space.
+The solver works on a separate model holding only the aerial manipulator (15 dofs: the UAV's
+free joint, 7 arm joints, 2 fingers): the UAV's dofs are frozen at the scene's current base pose
+(``DofFreezingTask``), so only the arm moves. A top-down target fixes the TCP's z axis to world
+−z and its x axis to a horizontal heading. The hanging arm reaches down "elbow-up"; a low-cost
+posture task pulls solutions towards the seed (by default a known top-down posture).
+
+Collision checks of candidate solutions run on a scratch copy of the full scene
+(:meth:`ArmIk.collisions`).
 """
 
 from __future__ import annotations
 
 import math
 
+import mink
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.sim import constants as c
+from vlm_bench.sim.robot import add_aerial_manipulator, robot_geom_ids
+from vlm_bench.types.episode import UavPose
 
 Vec = NDArray[np.float64]
 TOP_DOWN_SEED = (-1.5, -1.76, 1.6, -2.54, -1.44, 1.71, 2.8)  # a known top-down grasp posture
+SEED_POSTURES = (
+    TOP_DOWN_SEED,
+    (-1.01, -1.75, 1.32, -3.03, -1.8, 1.78, 1.68),  # top-down, 0.6 m below and 0.6 m out
+    (2.14, -1.74, 1.32, -3.03, -1.8, 1.77, 0.11),  # the same, reaching to the other side
+)
+"""Postures IK restarts from when the given seed does not converge (from a reach scan)."""
 POS_TOL = 0.004  # m
 ROT_TOL = 0.03  # rad
+DT = 0.1  # s, integration step of mink's velocity solution
+
+
+def _robot_model() -> mujoco.MjModel:
+    spec = mujoco.MjSpec()
+    add_aerial_manipulator(spec, UavPose(pos=(0.0, 0.0, 1.0), yaw_deg=0.0))
+    return spec.compile()
+
+
+def top_down_rotation(heading_rad: float) -> Vec:
+    """TCP orientation pointing down with its x axis along ``heading_rad``."""
+    ch, sh = math.cos(heading_rad), math.sin(heading_rad)
+    return np.array([[ch, sh, 0.0], [sh, -ch, 0.0], [0.0, 0.0, -1.0]])
 
 
 class ArmIk:
-    """IK solver for one scene's arm (keeps its own ``MjData`` as scratch space)."""
+    """IK solver for one scene's arm.
+
+    Args:
+        model: The scene's compiled model (read for the arm's joint addresses and limits).
+    """
 
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
         self.scratch = mujoco.MjData(model)
         self.qadr = np.array([model.joint(j).qposadr[0] for j in c.ARM_JOINTS])
-        self.dofs = np.array([model.joint(j).dofadr[0] for j in c.ARM_JOINTS])
         self.lo = np.array([model.joint(j).range[0] for j in c.ARM_JOINTS]) + 0.01
         self.hi = np.array([model.joint(j).range[1] for j in c.ARM_JOINTS]) - 0.01
         self.site = int(model.site(c.TCP_SITE).id)
+        self._robot_geoms = set(robot_geom_ids(model))
+        self._uav_qadr = int(model.joint(c.UAV_FREEJOINT).qposadr[0])
+        # The robot-only model mink solves on.
+        self.robot = _robot_model()
+        self._r_qadr = np.array([self.robot.joint(j).qposadr[0] for j in c.ARM_JOINTS])
+        self._r_uav = int(self.robot.joint(c.UAV_FREEJOINT).qposadr[0])
+        self.config = mink.Configuration(self.robot)
+        uav_dofs = self.robot.joint(c.UAV_FREEJOINT).dofadr[0] + np.arange(6)
+        finger_dofs = [
+            self.robot.joint(j).dofadr[0]
+            for j in range(self.robot.njnt)
+            if self.robot.joint(j).name not in c.ARM_JOINTS
+            and self.robot.joint(j).name != c.UAV_FREEJOINT
+        ]
+        self.frame = mink.FrameTask(
+            c.TCP_SITE, "site", position_cost=1.0, orientation_cost=0.5, lm_damping=1e-3
+        )
+        self.posture = mink.PostureTask(self.robot, cost=1e-3)
+        self.freeze = mink.DofFreezingTask(self.robot, [int(d) for d in [*uav_dofs, *finger_dofs]])
+        self.limits = [mink.ConfigurationLimit(self.robot)]
+
+    def _load(self, data: mujoco.MjData, q: Vec, base_dz: float) -> None:
+        """Robot-model configuration: the scene's UAV pose (raised by ``base_dz``) with arm
+        angles ``q``."""
+        qpos = self.config.q.copy()
+        qpos[self._r_uav : self._r_uav + 7] = data.qpos[self._uav_qadr : self._uav_qadr + 7]
+        qpos[self._r_uav + 2] += base_dz
+        qpos[self._r_qadr] = q
+        self.config.update(qpos)
 
     def solve(
         self,
@@ -40,41 +98,40 @@ class ArmIk:
         pos: Vec,
         heading_rad: float,
         seed: Vec,
-        iterations: int = 300,
-        damping: float = 0.05,
+        iterations: int = 200,
+        base_dz: float = 0.0,
     ) -> tuple[Vec, float]:
-        """Joint angles putting the TCP at ``pos`` pointing down, x axis along ``heading_rad``.
+        """Joint angles putting the TCP at ``pos`` pointing down, x axis along ``heading_rad``,
+        with the UAV where it is (or ``base_dz`` higher, to plan a base adjustment).
 
-        Returns the solution and its residual (position error in m plus rotation error in rad);
-        the caller decides whether it is good enough.
+        Returns the solution and its residual (position error in m plus rotation error in
+        rad); the caller decides whether it is good enough.
         """
-        s = self.scratch
-        s.qpos[:] = data.qpos
-        q = np.clip(np.asarray(seed, dtype=np.float64), self.lo, self.hi)
-        ch, sh = math.cos(heading_rad), math.sin(heading_rad)
-        target_rot = np.array([[ch, sh, 0.0], [sh, -ch, 0.0], [0.0, 0.0, -1.0]])
-        jacp = np.zeros((3, self.model.nv))
-        jacr = np.zeros((3, self.model.nv))
-        anchor = q.copy()
+        q0 = np.clip(np.asarray(seed, dtype=np.float64), self.lo, self.hi)
+        self._load(data, q0, base_dz)
+        target = mink.SE3.from_rotation_and_translation(
+            mink.SO3.from_matrix(top_down_rotation(heading_rad)), np.asarray(pos)
+        )
+        self.frame.set_target(target)
+        self.posture.set_target(self.config.q.copy())
         residual = math.inf
         for _ in range(iterations):
-            s.qpos[self.qadr] = q
-            mujoco.mj_kinematics(self.model, s)
-            mujoco.mj_comPos(self.model, s)
-            rot = s.site_xmat[self.site].reshape(3, 3)
-            e_pos = pos - s.site_xpos[self.site]
-            e_rot = 0.5 * sum(np.cross(rot[:, i], target_rot[:, i]) for i in range(3))
-            residual = float(np.linalg.norm(e_pos)) + float(np.linalg.norm(e_rot))
-            if np.linalg.norm(e_pos) < POS_TOL and np.linalg.norm(e_rot) < ROT_TOL:
+            err = self.frame.compute_error(self.config)
+            e_pos, e_rot = float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
+            residual = e_pos + e_rot
+            if e_pos < POS_TOL and e_rot < ROT_TOL:
                 break
-            mujoco.mj_jacSite(self.model, s, jacp, jacr, self.site)
-            jac = np.vstack([jacp[:, self.dofs], jacr[:, self.dofs]])
-            err = np.concatenate([e_pos, e_rot])
-            jjt = jac @ jac.T + damping**2 * np.eye(6)
-            dq = jac.T @ np.linalg.solve(jjt, err)
-            null = np.eye(7) - jac.T @ np.linalg.solve(jjt, jac)
-            dq += null @ (0.1 * (anchor - q))
-            q = np.clip(q + np.clip(dq, -0.2, 0.2), self.lo, self.hi)
+            vel = mink.solve_ik(
+                self.config,
+                [self.frame, self.posture],
+                DT,
+                "daqp",
+                damping=1e-3,
+                limits=self.limits,
+                constraints=[self.freeze],
+            )
+            self.config.integrate_inplace(vel, DT)
+        q = np.clip(self.config.q[self._r_qadr], self.lo, self.hi)
         return q, residual
 
     def tcp_pose(self, data: mujoco.MjData, q: Vec) -> tuple[Vec, Vec]:
@@ -84,3 +141,34 @@ class ArmIk:
         s.qpos[self.qadr] = q
         mujoco.mj_kinematics(self.model, s)
         return s.site_xpos[self.site].copy(), s.site_xmat[self.site].reshape(3, 3).copy()
+
+    def collisions(
+        self,
+        data: mujoco.MjData,
+        q: Vec,
+        ignore: set[int],
+        gripper: float | None = None,
+        base_dz: float = 0.0,
+    ) -> list[int]:
+        """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
+        ``base_dz`` higher), other than the geoms in ``ignore``."""
+        s = self.scratch
+        s.qpos[:] = data.qpos
+        s.qpos[self._uav_qadr + 2] += base_dz
+        s.qpos[self.qadr] = q
+        if gripper is not None:
+            for name in c.FINGER_JOINTS:
+                s.qpos[self.model.joint(name).qposadr[0]] = gripper
+        mujoco.mj_kinematics(self.model, s)
+        mujoco.mj_collision(self.model, s)
+        hits = []
+        for i in range(s.ncon):
+            if s.contact.dist[i] > 0.0:
+                continue
+            g1, g2 = int(s.contact.geom[i][0]), int(s.contact.geom[i][1])
+            r1, r2 = g1 in self._robot_geoms, g2 in self._robot_geoms
+            if r1 != r2:
+                other = g2 if r1 else g1
+                if other not in ignore:
+                    hits.append(other)
+        return hits

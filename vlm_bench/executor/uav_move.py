@@ -26,7 +26,7 @@ from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.references import Reference
 from vlm_bench.executor.types import FlightConfig
 from vlm_bench.sim.constants import ARM_STOW, CONTROL_DT
-from vlm_bench.sim.robot import arm_qpos, gripper_opening, set_arm_targets
+from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
 from vlm_bench.types.plan import Direction, UavStep
 
@@ -85,7 +85,7 @@ def stow_arm(loop: SimLoop, flight: FlightConfig) -> None:
     """Move the arm to ``ARM_STOW`` along a smooth (minimum-jerk) joint trajectory."""
     q0 = arm_qpos(loop.model, loop.data)
     goal = np.asarray(ARM_STOW, dtype=np.float64)
-    grip = gripper_opening(loop.model, loop.data)
+    grip = gripper_target(loop.model, loop.data)
     if float(np.max(np.abs(q0 - goal))) < STOWED_TOL:
         set_arm_targets(loop.model, loop.data, goal, grip)
         return

@@ -113,6 +113,11 @@ def gripper_opening(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     return float(np.mean([data.qpos[model.joint(n).qposadr[0]] for n in c.FINGER_JOINTS]))
 
 
+def gripper_target(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+    """The gripper actuator's current command (m per finger; 0 = squeeze closed)."""
+    return float(data.ctrl[model.actuator(c.GRIPPER_ACTUATOR).id])
+
+
 def robot_body_ids(model: mujoco.MjModel) -> list[int]:
     """Ids of the UAV body and every body under it (arm, hand, fingers)."""
     root = model.body(c.UAV_BODY).id

@@ -1,0 +1,86 @@
+"""Oracle ceiling (SPEC §7): every GT plan must succeed in the simulator.
+
+CI replays seed 0 of all 60 tasks; seeds 1-9 are ``slow`` (``pytest -m slow``). Tasks the executor
+cannot finish yet are listed in ``KNOWN_FAILURES`` with the reason observed and run as
+non-strict xfails, so the list is the open work of issue 4 and every other task is asserted.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from vlm_bench.catalog.tasks import all_tasks
+from vlm_bench.episodes.generate import make_episode
+from vlm_bench.executor import execute_plan
+
+KNOWN_FAILURES = {  # task -> reason observed at seed 0 (benchmarks/oracle_sweep.py)
+    "abstract_intent_clear": "step 1: skill 'push' is not available in the executor",
+    "batch_collection": "step 4: gray_cube is out of reach",
+    "category_sorting": "step 1: grasp of meat_can failed",
+    "clear_desk_push_box": "step 1: skill 'push' is not available in the executor",
+    "color_matched_sorting": "step 1: black_mug is out of reach",
+    "cross_category_transfer": "step 1: grasp of meat_can failed",
+    "cross_color_sorting": "step 1: grasp of black_mug failed",
+    "deformable_object_banana": "step 1: grasp of banana failed",
+    "drawer_interaction": "step 2: skill 'pull' is not available in the executor",
+    "function_detergent": "step 3: cleanser slipped from the gripper",
+    "hybrid_interaction_stove": "step 1: skill 'rotate' is not available in the executor",
+    "irregular_on_plate": "step 1: grasp of banana failed",
+    "material_tin": "step 1: grasp of meat_can failed",
+    "multi_object_sorting": "step 2: yellow_basket is out of reach",
+    "negation_constraint": "step 1: grasp of white_box failed",
+    "non_prehensile_push_cube": "step 1: skill 'push' is not available in the executor",
+    "pick_left_box_white": "step 2: yellow_basket_2 is out of reach",
+    "pick_left_cup_red": "goal not met: on(red_cup_2, red_plate)",
+    "preposition_by_dont": "step 1: skill 'push' is not available in the executor",
+    "preposition_onto": "step 1: grasp of blue_mug failed",
+    "spatial_ref_middle_drawer": "step 1: skill 'pull' is not available in the executor",
+    "spatial_ref_top_drawer": "step 2: skill 'pull' is not available in the executor",
+    "stacking_nesting": "step 1: grasp of blue_bowl failed",
+    "standard_pick_place": "step 2: yellow_basket is out of reach",
+    "store_and_close": "step 5: skill 'close' is not available in the executor",
+    "superlative_highest": "step 2: skill 'pull' is not available in the executor",
+    "synonym_center": "step 1: skill 'pull' is not available in the executor",
+    "synonym_cup_dish": "step 1: grasp of red_mug failed",
+    "tall_object_cleanser": "goal not met: inside(cleanser, blue_basket)",
+    "tool_manipulation_mug": "step 1: grasp of red_mug failed",
+    "tower_stacking": "step 1: grasp of rubiks_cube failed",
+    "variant_banana_in_bowl": "step 1: grasp of banana failed",
+    "variant_banana_in_box": "step 1: grasp of banana failed",
+    "variant_chocolate_box": "step 1: grasp of chocolate_box failed",
+    "variant_green_nut": "goal not met: inside(green_nut, yellow_basket)",
+    "variant_teddy_in_bowl": "step 3: teddy_bear slipped from the gripper",
+    "variant_tomato_can": "goal not met: inside(tomato_can, red_bowl)",
+    "verb_drop": "step 1: grasp of banana failed",
+}
+
+TASKS = [t.id for t in all_tasks()]
+
+
+def _cases(seeds: range) -> list[object]:
+    return [
+        pytest.param(task, seed, marks=pytest.mark.xfail(reason=KNOWN_FAILURES[task]))
+        if task in KNOWN_FAILURES
+        else pytest.param(task, seed)
+        for seed in seeds
+        for task in TASKS
+    ]
+
+
+def _replay(task: str, seed: int) -> None:
+    episode = make_episode(task, seed)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+    assert all(result.goals)
+    assert result.scores is not None and result.scores.s_task == 100.0
+
+
+@pytest.mark.parametrize(("task", "seed"), _cases(range(1)))
+def test_gt_plan_succeeds_seed0(task: str, seed: int) -> None:
+    _replay(task, seed)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("task", "seed"), _cases(range(1, 10)))
+def test_gt_plan_succeeds_seeds_1_to_9(task: str, seed: int) -> None:
+    _replay(task, seed)
