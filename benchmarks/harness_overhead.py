@@ -92,6 +92,7 @@ def main() -> None:
         tasks=chosen,
         seeds=tuple(parse_seeds(args.seeds)),
         resolution=args.resolution,
+        execute=False,  # plan execution is simulation time, not harness overhead
     )
     n = len(chosen) * len(config.seeds) * len(config.instructions)
     scenes = len(chosen) * len(config.seeds)

@@ -13,6 +13,7 @@ if TYPE_CHECKING:
         RunConfig,
         RunResult,
         load_run,
+        replay,
         rescore,
         run,
         run_dir_for,
@@ -20,7 +21,16 @@ if TYPE_CHECKING:
     )
 
 __version__ = "0.1.0"
-__all__ = ["RunConfig", "RunResult", "load_run", "rescore", "run", "run_dir_for", "score_output"]
+__all__ = [
+    "RunConfig",
+    "RunResult",
+    "load_run",
+    "replay",
+    "rescore",
+    "run",
+    "run_dir_for",
+    "score_output",
+]
 _API = frozenset(__all__)
 
 

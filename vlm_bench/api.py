@@ -4,8 +4,11 @@ Example:
     >>> import vlm_bench
     >>> result = vlm_bench.run(model="oracle", suite="long_horizon", seeds=(0, 1), resolution=64)
     >>> result.summary  # the paper's table in long form (one row per model × instruction × suite)
+    >>> vlm_bench.replay("drawer_interaction", 3).result.exec_success  # replay the GT plan
 
-The CLI (``vlm-bench run/rescore/score``) is a thin layer over these functions.
+Runs execute every valid plan in the simulator unless ``execute=False``; ``uav_noise=2.0``
+adds gusts on the UAV (the paper's "UAV Disturb." condition). The CLI (``vlm-bench
+run/rescore/score/execute``) is a thin layer over these functions.
 """
 
 from __future__ import annotations
@@ -24,8 +27,18 @@ if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped, unused-ignore]
 
     from vlm_bench.backends import Backend
+    from vlm_bench.runner.replay import Replay
 
-__all__ = ["RunConfig", "RunResult", "load_run", "rescore", "run", "run_dir_for", "score_output"]
+__all__ = [
+    "RunConfig",
+    "RunResult",
+    "load_run",
+    "replay",
+    "rescore",
+    "run",
+    "run_dir_for",
+    "score_output",
+]
 
 
 @dataclass(frozen=True)
@@ -41,7 +54,8 @@ class RunResult:
     summary: pd.DataFrame
     """Long summary: model × instruction × suite (+ overall, both) rows; see report.summary."""
     stats: dict[str, int]
-    """Counts of this call: total, skipped, scored, errors, cached, generate_calls, changed."""
+    """Counts of this call: total, skipped, scored, errors, cached, generate_calls, executed,
+    exec_crashes (executions that raised; recorded as failures), changed (rescore)."""
 
     @property
     def run_id(self) -> str:
@@ -52,7 +66,7 @@ class RunResult:
         """One row per episode (see :func:`vlm_bench.report.records_frame`)."""
         from vlm_bench.report import records_frame
 
-        return records_frame(self.records)
+        return records_frame(self.records, {self.manifest.run_id: self.manifest.config.execute})
 
     def table(self) -> pd.DataFrame:
         """The paper layout: rows model × instruction, columns (suite, metric)."""
@@ -61,8 +75,11 @@ class RunResult:
         return summary_wide(self.summary)
 
 
-def run_dir_for(config: RunConfig, out: Path | str | None = None, run_name: str | None = None,
-                ) -> Path:
+def run_dir_for(
+    config: RunConfig,
+    out: Path | str | None = None,
+    run_name: str | None = None,
+) -> Path:
     """The run folder: ``out``, ``results/<run_name>``, or ``results/<model-slug>-<hash>``."""
     from vlm_bench.resources import results_dir
     from vlm_bench.runner import default_run_dir
@@ -98,7 +115,8 @@ def run(
         snapshot_cache: PNG cache folder; True = ``.snapshots`` beside the run folder (or
             ``VLM_BENCH_SNAPSHOT_CACHE``); False/None = render every episode.
         progress: Show a progress bar on stderr.
-        **options: :class:`RunConfig` fields when ``config`` is None (``model="oracle"``, ...).
+        **options: :class:`RunConfig` fields when ``config`` is None (``model="oracle"``,
+            ``execute=False`` to skip plan execution, ``uav_noise=2.0`` for gusts, ...).
 
     Returns:
         The folder's records and summary; ``summary.md``/``summary.csv`` are written too.
@@ -113,26 +131,45 @@ def run(
         config = run_config(**options)
     elif options:
         raise ConfigError("give a RunConfig or keyword options, not both")
-    outcome = execute_run(config, run_dir_for(config, out, run_name), backend=backend,
-                          snapshot_cache=snapshot_cache, progress=progress)
+    outcome = execute_run(
+        config,
+        run_dir_for(config, out, run_name),
+        backend=backend,
+        snapshot_cache=snapshot_cache,
+        progress=progress,
+    )
     summary = write_summary(outcome.run_dir)
     s = outcome.stats
-    stats = {"total": s.total, "skipped": s.skipped, "scored": s.scored, "errors": s.errors,
-             "cached": s.cached, "generate_calls": s.generate_calls}
+    stats = {
+        "total": s.total,
+        "skipped": s.skipped,
+        "scored": s.scored,
+        "errors": s.errors,
+        "cached": s.cached,
+        "generate_calls": s.generate_calls,
+        "executed": s.executed,
+        "exec_crashes": s.exec_crashes,
+    }
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, stats)
 
 
-def rescore(run_dir: Path | str) -> RunResult:
+def rescore(run_dir: Path | str, *, progress: bool = False) -> RunResult:
     """Recompute parses and scores of a run from its response cache; no model is called.
 
-    Rewrites ``records.jsonl`` (one line per episode) and the summary files.
+    A run that executes plans executes them all again. Rewrites ``records.jsonl`` (one line
+    per episode) and the summary files.
     """
     from vlm_bench.report import write_summary
     from vlm_bench.runner import rescore_run
 
-    outcome = rescore_run(Path(run_dir))
+    outcome = rescore_run(Path(run_dir), progress=progress)
     summary = write_summary(outcome.run_dir)
-    stats = {"total": len(outcome.records), "changed": outcome.changed, "generate_calls": 0}
+    stats = {
+        "total": len(outcome.records),
+        "changed": outcome.changed,
+        "generate_calls": 0,
+        "executed": outcome.executed,
+    }
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, stats)
 
 
@@ -144,12 +181,61 @@ def load_run(run_dir: Path | str) -> RunResult:
     paths = RunPaths(Path(run_dir))
     manifest = read_manifest(paths)
     records = tuple(latest_records(paths.records))
-    return RunResult(paths.root, manifest, records, summary_long(records_frame(records)),
-                     {"total": len(records)})
+    frame = records_frame(records, {manifest.run_id: manifest.config.execute})
+    return RunResult(paths.root, manifest, records, summary_long(frame), {"total": len(records)})
+
+
+def replay(
+    task_id: str,
+    seed: int,
+    plan: str | None = None,
+    *,
+    source: str = "plan",
+    instruction: InstructionVariant = "explicit",
+    uav_noise: float = 0.0,
+    video: Path | str | None = None,
+    camera: str = "side",
+    fps: float = 10.0,
+    size: int = 480,
+    shadows: bool = True,
+) -> Replay:
+    """Execute one plan on an episode in the simulator (the GT plan when ``plan`` is None).
+
+    Args:
+        task_id: Task id.
+        seed: Episode seed.
+        plan: Plan text in the paper's JSON format (as a model would answer), or None.
+        source: The plan's origin, named in error messages (e.g. its file name).
+        instruction: Instruction variant the plan answers (a label; both share the scene).
+        uav_noise: Gust force std on the UAV (N), seeded per episode as in runs.
+        video: Write a video of the replay here (``.mp4`` needs the ``video`` extra, ``.gif``
+            does not).
+        camera: Camera filmed (``uav``, ``wrist``, ``overhead``, ``side``, ...).
+        fps: Video frames per second (at most 20, the control rate).
+        size: Video frame side in pixels.
+        shadows: Render the video with shadows (2–3× slower per frame on a CPU).
+
+    Returns:
+        The :class:`~vlm_bench.runner.replay.Replay`: the plan, the
+        :class:`~vlm_bench.types.execution.ExecutionResult`, goal labels and the video path.
+
+    Raises:
+        ConfigError: An invalid plan (names the step) or option. UnknownNameError: Unknown task
+        or camera. MissingExtraError: MP4 without imageio-ffmpeg.
+    """
+    from vlm_bench.runner.replay import VideoOptions, replay_plan
+
+    options = VideoOptions(Path(video), camera, fps, size, shadows) if video is not None else None
+    return replay_plan(
+        task_id, seed, plan, source=source, variant=instruction, uav_noise=uav_noise, video=options
+    )
 
 
 def score_output(
-    task_id: str, seed: int, text: str, instruction: InstructionVariant = "explicit",
+    task_id: str,
+    seed: int,
+    text: str,
+    instruction: InstructionVariant = "explicit",
     scoring: ScoringConfig | None = None,
 ) -> dict[str, Any]:
     """Score one raw model output against an episode's GT plan.

@@ -26,8 +26,10 @@ METRICS = ["S_plan", "S_loc", "S_obj", "S_skill", "S_total", "Succ"]
 def _app() -> typer.Typer:
     from vlm_bench.cli.main import _register, app
 
-    if not any(c.name == "run" or getattr(c.callback, "__name__", "") == "run"
-               for c in app.registered_commands):
+    if not any(
+        c.name == "run" or getattr(c.callback, "__name__", "") == "run"
+        for c in app.registered_commands
+    ):
         _register()
     return app
 
@@ -41,13 +43,31 @@ def _invoke(*args: str) -> str:
 def _cli(*args: str) -> subprocess.CompletedProcess[str]:
     """The real console entry point (one-line errors, exit codes)."""
     code = "from vlm_bench.cli.main import main; main()"
-    return subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True,
-                          cwd=ROOT, timeout=120, check=False)
+    return subprocess.run(
+        [sys.executable, "-c", code, *args],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=120,
+        check=False,
+    )
 
 
 def _run_args(out: Path, model: str, tasks: tuple[str, ...], seeds: str = "0-1") -> list[str]:
-    args = ["run", "--model", model, "--seeds", seeds, "--resolution", "64", "--out", str(out),
-            "--no-progress"]
+    # Plan execution is tested in test_cli_execute.py; these runs are about planning.
+    args = [
+        "run",
+        "--model",
+        model,
+        "--seeds",
+        seeds,
+        "--resolution",
+        "64",
+        "--out",
+        str(out),
+        "--no-progress",
+        "--no-execute",
+    ]
     for task in tasks:
         args += ["--task", task]
     return args
@@ -58,14 +78,20 @@ def test_oracle_run_scores_100_everywhere(tmp_path: Path) -> None:
     printed = _invoke(*_run_args(out, "oracle", FEW))
     summary = pd.read_csv(out / "summary.csv")
     assert set(summary.instruction) == {"explicit", "implicit", "both"}
-    assert set(summary.suite) == {"base_manipulation", "object_spatial",
-                                  "semantic_understanding", "long_horizon", "overall"}
+    assert set(summary.suite) == {
+        "base_manipulation",
+        "object_spatial",
+        "semantic_understanding",
+        "long_horizon",
+        "overall",
+    }
     assert (summary[METRICS] == 100.0).all().all(), summary
     overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
     assert overall.n == len(FEW) * 2 * 2 and overall.n_error == 0
     records = latest_records(out / "records.jsonl")
-    assert len(records) == 16 and all(r.parse is not None and r.parse.tier == "valid"
-                                      for r in records)
+    assert len(records) == 16 and all(
+        r.parse is not None and r.parse.tier == "valid" for r in records
+    )
     assert "BM" in printed and "Overall" in printed and "summary.md" in printed
     assert (out / "summary.md").read_text().count("| oracle |") == 3
 
@@ -81,8 +107,21 @@ def test_random_run_scores_far_below(tmp_path: Path) -> None:
 @pytest.mark.slow
 def test_oracle_full_sweep_all_60_tasks(tmp_path: Path) -> None:
     out = tmp_path / "full"
-    _invoke("run", "--model", "oracle", "--seeds", "0-1", "--resolution", "32", "--out",
-            str(out), "--no-progress", "--batch-size", "16")
+    _invoke(
+        "run",
+        "--model",
+        "oracle",
+        "--seeds",
+        "0-1",
+        "--resolution",
+        "32",
+        "--out",
+        str(out),
+        "--no-progress",
+        "--batch-size",
+        "16",
+        "--no-execute",
+    )
     summary = pd.read_csv(out / "summary.csv")
     assert (summary[METRICS] == 100.0).all().all()
     overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
@@ -102,7 +141,8 @@ def test_mismatched_config_and_second_writer_are_refused(tmp_path: Path) -> None
         locked = _cli(*_run_args(out, "oracle", FEW[:1], seeds="0"))
     assert locked.returncode == 2
     assert locked.stderr.strip().startswith("error: ") and "another vlm-bench process" in (
-        locked.stderr)
+        locked.stderr
+    )
     assert len(locked.stderr.strip().splitlines()) == 1
     assert len(latest_records(out / "records.jsonl")) == 2
 
@@ -130,10 +170,24 @@ def test_score_command_json(tmp_path: Path) -> None:
     predicted[first_move]["direction"] = neighbour
     output = tmp_path / "out.txt"
     output.write_text("Sure! Here is the plan:\n```json\n" + json.dumps(predicted) + "\n```\n")
-    data = json.loads(_invoke("score", "standard_pick_place", "--seed", "1", "--instruction",
-                              "implicit", "--output", str(output), "--json"))
+    data = json.loads(
+        _invoke(
+            "score",
+            "standard_pick_place",
+            "--seed",
+            "1",
+            "--instruction",
+            "implicit",
+            "--output",
+            str(output),
+            "--json",
+        )
+    )
     assert (data["task_id"], data["seed"], data["instruction"]) == (
-        "standard_pick_place", 1, "implicit")
+        "standard_pick_place",
+        1,
+        "implicit",
+    )
     assert data["parse"]["tier"] == "repaired" and data["gt_plan"] == gt
     n_move = sum(s["tasktype"] == "UAV" for s in gt)
     scores = data["scores"]
@@ -156,8 +210,17 @@ def test_score_command_user_errors_are_one_line(tmp_path: Path) -> None:
 def test_run_option_errors_are_one_line(tmp_path: Path) -> None:
     bad = _cli("run", "--model", "oracle", "--views", "uav,top", "--out", str(tmp_path / "x"))
     assert bad.returncode == 2 and "unknown camera view 'top'" in bad.stderr
-    both = _cli("run", "--model", "oracle", "--task", "standard_pick_place", "--suite", "lh",
-                "--out", str(tmp_path / "y"))
+    both = _cli(
+        "run",
+        "--model",
+        "oracle",
+        "--task",
+        "standard_pick_place",
+        "--suite",
+        "lh",
+        "--out",
+        str(tmp_path / "y"),
+    )
     assert both.returncode == 2 and "not both" in both.stderr
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
 
@@ -169,14 +232,20 @@ def test_planning_help_and_api_import_stay_light() -> None:
         "from vlm_bench.cli.main import app, _register\n"
         "import vlm_bench.api\n"
         "_register()\n"
-        "for cmd in ('run', 'rescore', 'score'):\n"
+        "for cmd in ('run', 'rescore', 'score', 'execute'):\n"
         "    r = CliRunner().invoke(app, [cmd, '--help'])\n"
         "    assert r.exit_code == 0, r.output\n"
         "heavy = ('torch', 'transformers', 'mujoco', 'pandas', 'vlm_bench.sim',\n"
         "         'vlm_bench.runner')\n"
         "print(','.join(m for m in heavy if m in sys.modules))\n"
     )
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            cwd=ROOT, check=False, timeout=60)
+    result = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        check=False,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "", f"imported: {result.stdout}"

@@ -12,16 +12,40 @@ from pathlib import Path
 from vlm_bench.storage import latest_records, read_records
 
 ROOT = Path(__file__).resolve().parents[2]
-TASKS = ("standard_pick_place", "deformable_object_banana", "cylinder_manipulation",
-         "target_color_yellow", "small_object_bolt", "synonym_block_bin", "material_tin",
-         "superlative_highest", "color_matched_sorting", "tower_stacking")
+TASKS = (
+    "standard_pick_place",
+    "deformable_object_banana",
+    "cylinder_manipulation",
+    "target_color_yellow",
+    "small_object_bolt",
+    "synonym_block_bin",
+    "material_tin",
+    "superlative_highest",
+    "color_matched_sorting",
+    "tower_stacking",
+)
 TOTAL = len(TASKS) * 2 * 2
 
 
 def _command(out: Path) -> list[str]:
-    args = [sys.executable, "-c", "from vlm_bench.cli.main import main; main()", "run",
-            "--model", "oracle", "--seeds", "0-1", "--resolution", "48", "--batch-size", "1",
-            "--out", str(out), "--no-progress"]
+    args = [
+        sys.executable,
+        "-c",
+        "from vlm_bench.cli.main import main; main()",
+        "run",
+        "--model",
+        "oracle",
+        "--seeds",
+        "0-1",
+        "--resolution",
+        "48",
+        "--batch-size",
+        "1",
+        "--out",
+        str(out),
+        "--no-progress",
+        "--no-execute",
+    ]
     for task in TASKS:
         args += ["--task", task]
     return args
@@ -39,8 +63,9 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> Non
     clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
     # Snapshot caches beside each run folder: the clean run renders everything itself.
     env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
-    proc = subprocess.Popen(_command(killed_dir), cwd=ROOT, env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        _command(killed_dir), cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    )
     records = killed_dir / "records.jsonl"
     deadline = time.monotonic() + 50
     while _lines(records) < 3 and proc.poll() is None and time.monotonic() < deadline:
@@ -51,12 +76,26 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> Non
     at_kill = _lines(records)
     assert 3 <= at_kill < TOTAL, at_kill
 
-    resumed = subprocess.run(_command(killed_dir), cwd=ROOT, env=env, capture_output=True,
-                             text=True, timeout=120, check=False)
+    resumed = subprocess.run(
+        _command(killed_dir),
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert resumed.returncode == 0, resumed.stderr
     assert "resumed" in resumed.stdout
-    clean = subprocess.run(_command(clean_dir), cwd=ROOT, env=env, capture_output=True,
-                           text=True, timeout=120, check=False)
+    clean = subprocess.run(
+        _command(clean_dir),
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert clean.returncode == 0, clean.stderr
 
     got = [r.without_timing() for r in latest_records(records)]
@@ -72,9 +111,14 @@ def test_ctrl_c_exits_130_with_a_resume_hint(tmp_path: Path) -> None:
     command = _command(out)
     # pytest-xdist workers ignore SIGINT and children inherit that; restore the default so
     # the child Python installs its KeyboardInterrupt handler, as in a user's terminal.
-    proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        command,
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     records = out / "records.jsonl"
     deadline = time.monotonic() + 50
     while _lines(records) < 2 and proc.poll() is None and time.monotonic() < deadline:
@@ -87,7 +131,8 @@ def test_ctrl_c_exits_130_with_a_resume_hint(tmp_path: Path) -> None:
     assert "Traceback" not in stderr
     done = len(read_records(records))  # every line written is a complete record
     assert 2 <= done < TOTAL
-    resumed = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=120,
-                             check=False)
+    resumed = subprocess.run(
+        command, cwd=ROOT, capture_output=True, text=True, timeout=120, check=False
+    )
     assert resumed.returncode == 0, resumed.stderr
     assert len(latest_records(records)) == TOTAL

@@ -20,7 +20,8 @@ from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.run import RunConfig
 
 TASKS = ("standard_pick_place", "tower_stacking")
-SMALL = {"tasks": TASKS, "seeds": (0, 1), "resolution": 32}
+# Execution is tested in test_execution_runs.py; these tests are about the planning pipeline.
+SMALL = {"tasks": TASKS, "seeds": (0, 1), "resolution": 32, "execute": False}
 
 
 class CountingOracle(Backend):
@@ -28,22 +29,28 @@ class CountingOracle(Backend):
 
     name = "counting"
 
-    def __init__(self, fail_ids: Sequence[str] = (), raise_on_call: int | None = None,
-                 raise_exc: BaseException | None = None) -> None:
+    def __init__(
+        self,
+        fail_ids: Sequence[str] = (),
+        raise_on_call: int | None = None,
+        raise_exc: BaseException | None = None,
+    ) -> None:
         self.inner = OracleBackend()
         self.calls: list[list[GenerationRequest]] = []
         self.fail_ids = set(fail_ids)
         self.raise_on_call = raise_on_call
         self.raise_exc = raise_exc or RuntimeError("driver crashed")
 
-    def generate(self, requests: Sequence[GenerationRequest],
-                 config: GenerationConfig) -> list[GenerationResult]:
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
         self.calls.append(list(requests))
         if self.raise_on_call == len(self.calls):
             raise self.raise_exc
         out = self.inner.generate(requests, config)
-        return [GenerationResult(id=r.id, error="HTTP 500") if r.id in self.fail_ids else r
-                for r in out]
+        return [
+            GenerationResult(id=r.id, error="HTTP 500") if r.id in self.fail_ids else r for r in out
+        ]
 
     @property
     def n_requests(self) -> int:
@@ -60,8 +67,9 @@ def _comparable(run_dir: Path) -> list[dict[str, object]]:
 
 def test_requests_carry_what_the_builtins_need(tmp_path: Path) -> None:
     fake = CountingOracle()
-    config = _config(generation=GenerationConfig(batch_size=3, constrained=True),
-                     views=("uav", "overhead"))
+    config = _config(
+        generation=GenerationConfig(batch_size=3, constrained=True), views=("uav", "overhead")
+    )
     result = api.run(config, out=tmp_path / "run", backend=fake)
     assert [len(c) for c in fake.calls] == [3, 3, 2]  # 8 episodes in batches of 3
     req = fake.calls[0][0]
@@ -87,8 +95,9 @@ def test_backend_errors_are_recorded_then_retried_on_resume(tmp_path: Path) -> N
     first = api.run(_config(), out=tmp_path / "run", backend=CountingOracle(fail_ids=failing))
     errors = {r.key for r in first.records if not r.ok}
     assert errors == failing and first.stats["errors"] == 2
-    assert all(r.backend_error == "HTTP 500" and r.scores is None
-               for r in first.records if not r.ok)
+    assert all(
+        r.backend_error == "HTTP 500" and r.scores is None for r in first.records if not r.ok
+    )
     row = first.summary[(first.summary.instruction == "both") & (first.summary.suite == "overall")]
     assert int(row.n_error.iloc[0]) == 2
     second_backend = CountingOracle()
@@ -101,12 +110,14 @@ def test_backend_errors_are_recorded_then_retried_on_resume(tmp_path: Path) -> N
 
 def test_a_raising_backend_does_not_kill_the_run(tmp_path: Path) -> None:
     fake = CountingOracle(raise_on_call=1)
-    result = api.run(_config(generation=GenerationConfig(batch_size=4)), out=tmp_path / "run",
-                     backend=fake)
+    result = api.run(
+        _config(generation=GenerationConfig(batch_size=4)), out=tmp_path / "run", backend=fake
+    )
     assert len(fake.calls) == 2
     bad = [r for r in result.records if not r.ok]
-    assert len(bad) == 4 and all("RuntimeError: driver crashed" in (r.backend_error or "")
-                                 for r in bad)
+    assert len(bad) == 4 and all(
+        "RuntimeError: driver crashed" in (r.backend_error or "") for r in bad
+    )
 
 
 def test_interrupt_leaves_a_resumable_folder(tmp_path: Path) -> None:
@@ -156,8 +167,9 @@ def test_rescore_recomputes_without_the_backend(tmp_path: Path) -> None:
 
 def test_finished_resume_never_builds_the_backend(tmp_path: Path) -> None:
     api.run(_config(tasks=TASKS[:1], seeds=(0,)), out=tmp_path / "run")
-    again = api.run(_config(tasks=TASKS[:1], seeds=(0,), backend_args={}),
-                    out=tmp_path / "run", backend=None)
+    again = api.run(
+        _config(tasks=TASKS[:1], seeds=(0,), backend_args={}), out=tmp_path / "run", backend=None
+    )
     assert again.stats["generate_calls"] == 0 and again.stats["skipped"] == 2
 
 
@@ -182,8 +194,10 @@ def test_snapshot_cache_is_shared_and_per_view(tmp_path: Path) -> None:
 def test_run_options_are_checked_before_anything_is_written(tmp_path: Path) -> None:
     with pytest.raises(UnknownNameError, match="unknown task 'no_such_task'"):
         api.run(model="oracle", tasks=("no_such_task",), out=tmp_path / "a")
-    with pytest.raises(ConfigError, match="not available yet"):
-        api.run(model="oracle", execute=True, out=tmp_path / "b")
+    with pytest.raises(ConfigError, match="uav_noise > 0 needs execute"):
+        api.run(model="oracle", execute=False, uav_noise=1.0, out=tmp_path / "b")
+    with pytest.raises(ConfigError, match="uav_noise"):
+        api.run(model="oracle", uav_noise=-1.0, out=tmp_path / "e")
     with pytest.raises(ConfigError, match="resolution 2048 exceeds"):
         api.run(model="oracle", resolution=2048, out=tmp_path / "d")
     with pytest.raises(ConfigError, match="give tasks or a suite, not both"):
@@ -192,8 +206,9 @@ def test_run_options_are_checked_before_anything_is_written(tmp_path: Path) -> N
 
 
 def test_gt_plan_of_records_matches_the_episode(tmp_path: Path) -> None:
-    result = api.run(_config(tasks=TASKS[1:], seeds=(1,)), out=tmp_path / "run",
-                     backend=CountingOracle())
+    result = api.run(
+        _config(tasks=TASKS[1:], seeds=(1,)), out=tmp_path / "run", backend=CountingOracle()
+    )
     episode = make_episode("tower_stacking", 1)
     assert all(r.gt_plan == plan_to_json(episode.gt_plan) for r in result.records)
     assert all(r.plan == r.gt_plan for r in result.records)

@@ -38,12 +38,16 @@ def test_v1_run_folder_loads() -> None:
     failed = records["tower_stacking/0/implicit"]
     assert failed.status == "error" and failed.backend_error == "HTTP 503: server overloaded"
     assert len(read_responses(RUN_V1 / "responses.jsonl")) == 3
+    # Written before plan execution existed: read as a run that does not execute plans.
+    assert manifest.config.execute is False and manifest.config.uav_noise == 0.0
+    assert all(r.execution is None for r in records.values())
 
 
 def test_v1_records_feed_the_summary() -> None:
     long = summary_long(load_records_frame(RUN_V1))
     row = long[(long.instruction == "explicit") & (long.suite == "overall")].iloc[0]
     assert row.S_total == pytest.approx(50.0) and row.Succ == pytest.approx(50.0)
+    assert "exec_success" not in long.columns
 
 
 def test_unknown_fields_are_ignored_and_new_fields_default(tmp_path: Path) -> None:

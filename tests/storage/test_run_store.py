@@ -31,18 +31,32 @@ from vlm_bench.types.scores import ScoringConfig
 
 def _manifest_for(config: RunConfig):  # type: ignore[no-untyped-def]
     def build(run_id: str) -> RunManifest:
-        return RunManifest(run_id=run_id, config=config.redacted(),
-                           config_hash=config.config_hash(), backend="oracle",
-                           data=DataHashes(prompts="p", skills="s", ground_truth="g"),
-                           packages={}, created=utc_now())
+        return RunManifest(
+            run_id=run_id,
+            config=config.redacted(),
+            config_hash=config.config_hash(),
+            backend="oracle",
+            data=DataHashes(prompts="p", skills="s", ground_truth="g"),
+            packages={},
+            created=utc_now(),
+        )
+
     return build
 
 
 def _record(key: str, status: str = "ok") -> EpisodeRecord:
     task, seed, variant = key.split("/")
-    return EpisodeRecord(run_id="r", key=key, task_id=task, suite="base_manipulation",
-                         seed=int(seed), variant=variant, model="m", status=status,
-                         backend_error="boom" if status == "error" else None)
+    return EpisodeRecord(
+        run_id="r",
+        key=key,
+        task_id=task,
+        suite="base_manipulation",
+        seed=int(seed),
+        variant=variant,
+        model="m",
+        status=status,
+        backend_error="boom" if status == "error" else None,
+    )
 
 
 def test_jsonl_torn_last_line_is_skipped_then_repaired(tmp_path: Path) -> None:
@@ -109,9 +123,12 @@ def test_mismatched_config_is_refused_naming_fields(tmp_path: Path) -> None:
     config = RunConfig(model="oracle", seeds=(0, 1))
     root = tmp_path / "run"
     RunStore.create_or_resume(root, config, _manifest_for(config)).close()
-    other = config.model_copy(update={
-        "seeds": (0, 1, 2), "generation": GenerationConfig(max_new_tokens=64),
-    })
+    other = config.model_copy(
+        update={
+            "seeds": (0, 1, 2),
+            "generation": GenerationConfig(max_new_tokens=64),
+        }
+    )
     with pytest.raises(ConfigMismatchError) as info:
         RunStore.create_or_resume(root, other, _manifest_for(other))
     message = str(info.value)
@@ -124,10 +141,12 @@ def test_mismatched_config_is_refused_naming_fields(tmp_path: Path) -> None:
 
 def test_batch_size_and_secrets_do_not_change_the_config(tmp_path: Path) -> None:
     base = RunConfig(model="openai/x", backend_args={"api_key": "sk-1", "base_url": "http://a"})
-    fast = base.model_copy(update={
-        "generation": GenerationConfig(batch_size=32),
-        "backend_args": {"api_key": "sk-2", "base_url": "http://a", "concurrency": "16"},
-    })
+    fast = base.model_copy(
+        update={
+            "generation": GenerationConfig(batch_size=32),
+            "backend_args": {"api_key": "sk-2", "base_url": "http://a", "concurrency": "16"},
+        }
+    )
     assert base.config_hash() == fast.config_hash()
     moved = base.model_copy(update={"backend_args": {"api_key": "sk-1", "base_url": "http://b"}})
     assert moved.config_hash() != base.config_hash()
@@ -143,12 +162,28 @@ def test_config_hash_is_canonical_and_sensitive() -> None:
     b = run_config(model="m", seeds=(1, 3), instructions=("explicit", "implicit"))
     assert a.config_hash() == b.config_hash() and len(a.short_hash()) == 8
     changes = [
-        {"resolution": 224}, {"views": ("uav",)}, {"k_shot": 0}, {"object_list": False},
-        {"scoring": ScoringConfig(alpha=0.7)}, {"model": "n"}, {"suite": "long_horizon"},
+        {"resolution": 224},
+        {"views": ("uav",)},
+        {"k_shot": 0},
+        {"object_list": False},
+        {"scoring": ScoringConfig(alpha=0.7)},
+        {"model": "n"},
+        {"suite": "long_horizon"},
         {"generation": GenerationConfig(constrained=True)},
+        {"execute": False},
+        {"uav_noise": 1.5},
     ]
     hashes = {run_config(**{**b.model_dump(), **c}).config_hash() for c in changes}
     assert len(hashes) == len(changes) and b.config_hash() not in hashes
+
+
+def test_configs_of_earlier_releases_keep_their_hash() -> None:
+    # Before plan execution existed every run had execute=False and no uav_noise; such a
+    # config still hashes as it did then (pinned), so its default run folder is unchanged.
+    old = run_config(model="oracle", seeds=(0, 1), execute=False)
+    assert old.config_hash().startswith("e4a433ac133d1e2a")
+    assert "uav_noise" not in old.hashed_fields()
+    assert run_config(model="oracle", seeds=(0, 1)).short_hash() != old.short_hash()
 
 
 def test_second_writer_is_refused(tmp_path: Path) -> None:
@@ -169,14 +204,21 @@ def test_lock_held_by_another_process_and_freed_when_it_dies(tmp_path: Path) -> 
     root = tmp_path / "run"
     root.mkdir()
     holder = subprocess.Popen(
-        [sys.executable, "-c", textwrap.dedent(f"""
+        [
+            sys.executable,
+            "-c",
+            textwrap.dedent(f"""
             import sys, time
             from filelock import FileLock
-            lock = FileLock({str(root / '.lock')!r}, timeout=0)
+            lock = FileLock({str(root / ".lock")!r}, timeout=0)
             lock.acquire()
             print('held', flush=True)
             time.sleep(60)
-        """)], stdout=subprocess.PIPE, text=True)
+        """),
+        ],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
     try:
         assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
         config = RunConfig(model="oracle")
@@ -185,8 +227,9 @@ def test_lock_held_by_another_process_and_freed_when_it_dies(tmp_path: Path) -> 
     finally:
         holder.kill()
         holder.wait()
-    RunStore.create_or_resume(root, RunConfig(model="oracle"),
-                              _manifest_for(RunConfig(model="oracle"))).close()
+    RunStore.create_or_resume(
+        root, RunConfig(model="oracle"), _manifest_for(RunConfig(model="oracle"))
+    ).close()
 
 
 def test_missing_or_corrupted_manifest(tmp_path: Path) -> None:

@@ -26,10 +26,11 @@ def _register() -> None:
 
     world_cmds.register(app)
     try:
-        from vlm_bench.cli import run_cmds
+        from vlm_bench.cli import execute_cmd, run_cmds
     except ImportError:  # the planning pipeline commands are optional during development
         return
     run_cmds.register(app)
+    execute_cmd.register(app)
 
 
 def main() -> None:

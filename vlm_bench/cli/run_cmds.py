@@ -1,4 +1,5 @@
-"""Planning commands: run, rescore, score. Heavy imports happen inside the commands."""
+"""Planning commands: run, rescore, score (``execute`` lives in :mod:`.execute_cmd`). Heavy
+imports happen inside the commands."""
 
 from __future__ import annotations
 
@@ -41,6 +42,7 @@ def parse_instructions(text: str) -> tuple[InstructionVariant, ...]:
 
 def _print_summary(result: RunResult) -> None:
     from vlm_bench.report import summary_rich
+    from vlm_bench.runner.execution import EXECUTOR_CRASH
 
     console.print(summary_rich(result.summary, title=result.run_id, width=console.width))
     stats = result.stats
@@ -49,16 +51,35 @@ def _print_summary(result: RunResult) -> None:
         line += f", {stats['skipped']} resumed"
     if stats.get("cached"):
         line += f", {stats['cached']} from the response cache"
+    if stats.get("executed"):
+        line += f", {stats['executed']} plan(s) executed"
     console.print(line + ")", highlight=False, soft_wrap=True)
     errors = sum(1 for r in result.records if not r.ok)
     if errors:
-        console.print(f"[yellow]{errors} episode(s) failed in the backend; re-run the same "
-                      "command to retry them[/]", soft_wrap=True)
+        console.print(
+            f"[yellow]{errors} episode(s) failed in the backend; re-run the same "
+            "command to retry them[/]",
+            soft_wrap=True,
+        )
+    crashed = [
+        (r.key, r.execution.failure_reason)
+        for r in result.records
+        if r.execution is not None and (r.execution.failure_reason or "").startswith(EXECUTOR_CRASH)
+    ]
+    if crashed:
+        key, reason = crashed[0]
+        console.print(
+            f"[yellow]{len(crashed)} execution(s) raised in the executor (recorded as "
+            f"failures), e.g. {key}: {reason}[/]",
+            soft_wrap=True,
+            highlight=False,
+        )
 
 
 def run(
-    model: Annotated[str, typer.Option(help="HF id/path, openai/<name>, vllm/<id>, oracle, "
-                                            "random, mock.")],
+    model: Annotated[
+        str, typer.Option(help="HF id/path, openai/<name>, vllm/<id>, oracle, random, mock.")
+    ],
     task: Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")] = None,
     suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")] = None,
     seeds: Annotated[str, typer.Option(help="Seeds: 0-9 or 0,3,5.")] = "0",
@@ -66,22 +87,36 @@ def run(
     views: Annotated[str, typer.Option(help="Views shown, comma-separated.")] = ",".join(_VIEWS),
     resolution: Annotated[int, typer.Option(help="Snapshot side in pixels.")] = 448,
     k_shot: Annotated[int, typer.Option(help="Few-shot examples in the prompt.")] = 2,
-    no_object_list: Annotated[bool, typer.Option(
-        "--no-object-list", help="Do not list the scene's object ids.")] = False,
-    constrained: Annotated[bool, typer.Option(
-        help="JSON-schema constrained decoding.")] = False,
-    model_arg: Annotated[list[str] | None, typer.Option(
-        "--model-arg", "-M", help="Backend argument key=value (repeatable).")] = None,
+    no_object_list: Annotated[
+        bool, typer.Option("--no-object-list", help="Do not list the scene's object ids.")
+    ] = False,
+    constrained: Annotated[bool, typer.Option(help="JSON-schema constrained decoding.")] = False,
+    model_arg: Annotated[
+        list[str] | None,
+        typer.Option("--model-arg", "-M", help="Backend argument key=value (repeatable)."),
+    ] = None,
     batch_size: Annotated[int, typer.Option(help="Requests per generate call.")] = 8,
     max_new_tokens: Annotated[int, typer.Option(help="Most tokens generated.")] = 512,
     temperature: Annotated[float, typer.Option(help="0 = greedy.")] = 0.0,
     run_name: Annotated[str | None, typer.Option(help="Folder name under results/.")] = None,
     out: Annotated[Path | None, typer.Option(help="Run folder (instead of --run-name).")] = None,
-    no_snapshot_cache: Annotated[bool, typer.Option(
-        "--no-snapshot-cache", help="Render every episode (no shared PNG cache).")] = False,
+    no_snapshot_cache: Annotated[
+        bool,
+        typer.Option("--no-snapshot-cache", help="Render every episode (no shared PNG cache)."),
+    ] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+    execute: Annotated[
+        bool,
+        typer.Option("--execute/--no-execute", help="Execute every valid plan in the simulator."),
+    ] = True,
+    uav_noise: Annotated[
+        float,
+        typer.Option(
+            help="Gust force std on the UAV in N during execution (the paper's UAV Disturb.)."
+        ),
+    ] = 0.0,
 ) -> None:
-    """Evaluate a model as a planner; resumes the run folder if it exists."""
+    """Evaluate a model as a planner (and execute its plans); resumes the run folder."""
     from pydantic import ValidationError
 
     from vlm_bench.api import run as api_run
@@ -91,54 +126,78 @@ def run(
     from vlm_bench.types.run import run_config
 
     try:
-        generation = GenerationConfig(max_new_tokens=max_new_tokens, temperature=temperature,
-                                      constrained=constrained, batch_size=batch_size)
+        generation = GenerationConfig(
+            max_new_tokens=max_new_tokens,
+            temperature=temperature,
+            constrained=constrained,
+            batch_size=batch_size,
+        )
     except ValidationError as exc:
         err = exc.errors()[0]
         raise ConfigError(f"invalid option {err['loc'][0]}: {err['msg']}") from None
     config = run_config(
-        model=model, backend_args=parse_model_args(model_arg or []), tasks=tuple(task or ()),
-        suite=parse_suite(suite), seeds=tuple(parse_seeds(seeds)),
-        instructions=parse_instructions(instruction), views=parse_views(views),
-        resolution=resolution, k_shot=k_shot, object_list=not no_object_list,
+        model=model,
+        backend_args=parse_model_args(model_arg or []),
+        tasks=tuple(task or ()),
+        suite=parse_suite(suite),
+        seeds=tuple(parse_seeds(seeds)),
+        instructions=parse_instructions(instruction),
+        views=parse_views(views),
+        resolution=resolution,
+        k_shot=k_shot,
+        object_list=not no_object_list,
         generation=generation,
+        execute=execute,
+        uav_noise=uav_noise,
     )
     run_dir = run_dir_for(config, out, run_name)
     try:
-        result = api_run(config, out=run_dir, snapshot_cache=not no_snapshot_cache,
-                         progress=progress)
+        result = api_run(
+            config, out=run_dir, snapshot_cache=not no_snapshot_cache, progress=progress
+        )
     except KeyboardInterrupt:
-        print(f"interrupted: finished episodes are saved in {run_dir}; re-run the same "
-              "command to resume", file=sys.stderr)
+        print(
+            f"interrupted: finished episodes are saved in {run_dir}; re-run the same "
+            "command to resume",
+            file=sys.stderr,
+        )
         raise typer.Exit(130) from None
     _print_summary(result)
 
 
 def rescore(
-    run_dir: Annotated[str, typer.Argument(
-        metavar="RUN", help="Run folder, or a name under results/.")],
+    run_dir: Annotated[
+        str, typer.Argument(metavar="RUN", help="Run folder, or a name under results/.")
+    ],
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
-    """Recompute parses and scores from the response cache (no model calls)."""
+    """Recompute parses, scores and executions from the response cache (no model calls)."""
     from vlm_bench.api import rescore as api_rescore
     from vlm_bench.resources import results_dir
 
     path = Path(run_dir)
     if not path.exists() and (results_dir() / run_dir).exists():
         path = results_dir() / run_dir
-    result = api_rescore(path)
+    result = api_rescore(path, progress=progress)
     _print_summary(result)
     console.print(f"{result.stats['changed']} record(s) changed", highlight=False)
 
 
 def _score_text(data: dict[str, Any]) -> None:
     scores = data["scores"]
-    console.print(f"[bold]{data['task_id']}[/] seed {data['seed']} · {data['instruction']} · "
-                  f"parse: {data['parse']['tier']}")
+    console.print(
+        f"[bold]{data['task_id']}[/] seed {data['seed']} · {data['instruction']} · "
+        f"parse: {data['parse']['tier']}"
+    )
     console.print("plan:    " + json.dumps(data["plan"]), highlight=False, soft_wrap=True)
     console.print("GT plan: " + json.dumps(data["gt_plan"]), highlight=False, soft_wrap=True)
-    console.print("  ".join(f"{k}={scores[k]:.1f}" for k in
-                            ("s_plan", "s_loc", "s_obj", "s_skill", "s_total"))
-                  + f"  succ={scores['succ']}", highlight=False)
+    console.print(
+        "  ".join(
+            f"{k}={scores[k]:.1f}" for k in ("s_plan", "s_loc", "s_obj", "s_skill", "s_total")
+        )
+        + f"  succ={scores['succ']}",
+        highlight=False,
+    )
     console.print("errors: " + (", ".join(data["error_tags"]) or "none"), highlight=False)
 
 

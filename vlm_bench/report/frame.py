@@ -2,26 +2,65 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+import math
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
-from vlm_bench.storage import RunPaths, latest_records
+from vlm_bench.storage import NotARunError, RunPaths, latest_records, read_manifest
 from vlm_bench.types.records import EpisodeRecord
 
 METRICS = ("S_plan", "S_loc", "S_obj", "S_skill", "S_total")
 """Score columns, in the paper's order (Plan, Loc, Obj, Skill, Tot); Succ follows."""
 
+EXEC_METRICS = ("exec_success", "S_task", "S_pos", "S_arm", "S_safe", "VLA_total")
+"""Execution columns (SPEC §7): success (1/0), sub-goal completion and the paper's VLA metrics.
+NaN for runs that do not execute plans and for backend errors; 0 for an answered episode of an
+executing run whose output held no plan to execute."""
+
 COLUMNS = (
-    "run_id", "model", "key", "task_id", "suite", "seed", "instruction", "status", "tier",
-    *METRICS, "Succ", "error_tags", "latency_s", "prompt_tokens", "completion_tokens",
+    "run_id",
+    "model",
+    "key",
+    "task_id",
+    "suite",
+    "seed",
+    "instruction",
+    "status",
+    "tier",
+    *METRICS,
+    "Succ",
+    *EXEC_METRICS,
+    "exec_failure",
+    "error_tags",
+    "latency_s",
+    "prompt_tokens",
+    "completion_tokens",
     "backend_error",
 )
 """Columns of :func:`records_frame`, in order."""
 
 
-def _row(record: EpisodeRecord) -> dict[str, object]:
+def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
+    if not executed or not record.ok:
+        return {**dict.fromkeys(EXEC_METRICS, math.nan), "exec_failure": None}
+    run = record.execution
+    if run is None:
+        return {**dict.fromkeys(EXEC_METRICS, 0.0), "exec_failure": "not executed (no plan)"}
+    vla = run.scores
+    return {
+        "exec_success": float(run.exec_success),
+        "S_task": run.s_task,
+        "S_pos": vla.s_pos if vla else 0.0,
+        "S_arm": vla.s_arm if vla else 0.0,
+        "S_safe": vla.s_safe if vla else 0.0,
+        "VLA_total": vla.total if vla else 0.0,
+        "exec_failure": run.failure_reason,
+    }
+
+
+def _row(record: EpisodeRecord, executed: bool) -> dict[str, object]:
     scores = record.scores
     return {
         "run_id": record.run_id,
@@ -39,6 +78,7 @@ def _row(record: EpisodeRecord) -> dict[str, object]:
         "S_skill": scores.s_skill if scores else None,
         "S_total": scores.s_total if scores else None,
         "Succ": scores.succ if scores else None,
+        **_exec_values(record, executed),
         "error_tags": ",".join(record.error_tags),
         "latency_s": record.latency_s,
         "prompt_tokens": record.prompt_tokens,
@@ -47,15 +87,32 @@ def _row(record: EpisodeRecord) -> dict[str, object]:
     }
 
 
-def records_frame(records: Iterable[EpisodeRecord]) -> pd.DataFrame:
+def executing_runs(records: Iterable[EpisodeRecord]) -> dict[str, bool]:
+    """Guess which runs executed plans: those with at least one executed record."""
+    out: dict[str, bool] = {}
+    for record in records:
+        out[record.run_id] = out.get(record.run_id, False) or record.execution is not None
+    return out
+
+
+def records_frame(
+    records: Iterable[EpisodeRecord], executed: Mapping[str, bool] | None = None
+) -> pd.DataFrame:
     """One row per record with the columns of :data:`COLUMNS`.
 
+    Args:
+        records: Episode records of one or more runs.
+        executed: Whether each run (by run id) executes plans, from its manifest's
+            ``config.execute``; runs missing there are guessed by :func:`executing_runs`.
+
     Score columns are NaN (and ``Succ`` is None) for records whose backend failed
-    (``status == "error"``).
+    (``status == "error"``); see :data:`EXEC_METRICS` for the execution columns.
     """
-    rows = [_row(r) for r in records]
+    records = list(records)
+    runs = {**executing_runs(records), **(executed or {})}
+    rows = [_row(r, runs[r.run_id]) for r in records]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
-    for col in METRICS:
+    for col in (*METRICS, *EXEC_METRICS):
         frame[col] = frame[col].astype(float)
     return frame
 
@@ -63,11 +120,21 @@ def records_frame(records: Iterable[EpisodeRecord]) -> pd.DataFrame:
 def load_records_frame(runs: Path | str | Sequence[Path | str]) -> pd.DataFrame:
     """The records of one or more run folders (the latest record of each episode).
 
+    Whether a run executes plans comes from its manifest (guessed from the records when the
+    folder has none).
+
     Raises:
-        DataFileError: A corrupted ``records.jsonl`` (names the file and line).
+        DataFileError: A corrupted ``records.jsonl`` or manifest (names the file and line).
     """
     roots = [runs] if isinstance(runs, Path | str) else list(runs)
     records: list[EpisodeRecord] = []
+    executed: dict[str, bool] = {}
     for root in roots:
-        records.extend(latest_records(RunPaths(Path(root)).records))
-    return records_frame(records)
+        paths = RunPaths(Path(root))
+        records.extend(latest_records(paths.records))
+        try:
+            manifest = read_manifest(paths)
+        except NotARunError:
+            continue
+        executed[manifest.run_id] = manifest.config.execute
+    return records_frame(records, executed)

@@ -1,7 +1,10 @@
-"""The episode pipeline and run folders: run, resume, rescore (see :func:`execute_run`)."""
+"""The episode pipeline and run folders: run, resume, rescore (see :func:`execute_run`), and
+single-plan replays (:func:`replay_plan`)."""
 
 from vlm_bench.runner.evaluate import Evaluation, evaluate_output
+from vlm_bench.runner.execution import PlanExecutor, episode_noise_seed, record_plan
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
+from vlm_bench.runner.replay import Replay, VideoOptions, replay_plan
 from vlm_bench.runner.rescore import RescoreOutcome, rescore_run, score_output
 from vlm_bench.runner.run import RunOutcome, execute_run, make_manifest
 from vlm_bench.runner.selection import EpisodeRef, default_run_dir, model_slug, select_episodes
@@ -12,14 +15,20 @@ __all__ = [
     "EpisodeRef",
     "Evaluation",
     "PipelineStats",
+    "PlanExecutor",
+    "Replay",
     "RescoreOutcome",
     "RunOutcome",
     "SnapshotSource",
+    "VideoOptions",
     "default_run_dir",
+    "episode_noise_seed",
     "evaluate_output",
     "execute_run",
     "make_manifest",
     "model_slug",
+    "record_plan",
+    "replay_plan",
     "rescore_run",
     "score_output",
     "select_episodes",

@@ -1,9 +1,11 @@
-"""The episode pipeline: episode → snapshots → prompt → backend (batched) → parse → score → record.
+"""The episode pipeline: episode → snapshots → prompt → backend (batched) → parse → score →
+execute → record.
 
-Bad model output is scored, a failed generation is recorded as an ``error`` record (a resume
-retries it), and every record is durable as soon as it is written: an interrupt loses at most the
-batch in flight. Answers are cached before their records, keyed by episode and prompt hash, so a
-batch whose answers arrived is never asked again.
+Bad model output is scored (and its valid plan executed when the run executes plans), a failed
+generation is recorded as an ``error`` record (a resume retries it), and every record is durable
+as soon as it is written: an interrupt loses at most the batch in flight (a requested stop is
+also honoured before each execution). Answers are cached before their records, keyed by episode
+and prompt hash, so a batch whose answers arrived is never asked again.
 """
 
 from __future__ import annotations
@@ -17,13 +19,14 @@ from vlm_bench.errors import VlmBenchError
 from vlm_bench.parsing import plan_json_schema
 from vlm_bench.prompting import build_prompt
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
+from vlm_bench.runner.execution import PlanExecutor
 from vlm_bench.runner.interrupt import StopFlag
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.runner.snapshots import SnapshotSource
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import GenerationRequest, GenerationResult, RequestMeta
-from vlm_bench.types.records import CachedResponse
+from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig
 
 
@@ -45,6 +48,12 @@ class PipelineStats:
     """``Backend.generate`` calls made."""
     error_messages: list[str] = field(default_factory=list)
     """The first few backend error messages."""
+    executed: int = 0
+    """Plans executed in the simulator."""
+    exec_crashes: int = 0
+    """Executions that ended in an executor exception (recorded as failures)."""
+    exec_crash_messages: list[str] = field(default_factory=list)
+    """The first few executor exception messages."""
 
 
 @dataclass(frozen=True)
@@ -64,8 +73,12 @@ class EpisodePipeline:
     """Runs a run's pending episodes through one backend into one store."""
 
     def __init__(
-        self, config: RunConfig, store: RunStore, backend: Callable[[], Backend],
-        snapshots: SnapshotSource, advance: Callable[[int], None] | None = None,
+        self,
+        config: RunConfig,
+        store: RunStore,
+        backend: Callable[[], Backend],
+        snapshots: SnapshotSource,
+        advance: Callable[[int], None] | None = None,
         stop: StopFlag | None = None,
     ) -> None:
         """Set up the pipeline of one run.
@@ -88,6 +101,7 @@ class EpisodePipeline:
         self.stats = PipelineStats()
         self._episode: Episode | None = None
         self.stop = stop or StopFlag()
+        self.executor = PlanExecutor(config.uav_noise) if config.execute else None
 
     def run(self, refs: Sequence[EpisodeRef]) -> PipelineStats:
         """Evaluate every episode of ``refs`` that has no ok record yet."""
@@ -100,6 +114,18 @@ class EpisodePipeline:
             self._run_batch([self._prepare(ref) for ref in batch])
         return self.stats
 
+    def _execute(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord:
+        """Attach the execution of the record's plan when the run executes plans."""
+        if self.executor is None:
+            return record
+        self.stop.check()  # an execution takes seconds: honour a stop before starting one
+        record = self.executor.execute(episode, record)
+        stats = self.stats
+        stats.executed = self.executor.executed
+        stats.exec_crashes = self.executor.crashes
+        stats.exec_crash_messages = list(self.executor.crash_messages)
+        return record
+
     def _episode_of(self, ref: EpisodeRef) -> Episode:
         ep = self._episode
         if ep is None or ep.task_id != ref.task_id or ep.seed != ref.seed:
@@ -108,19 +134,23 @@ class EpisodePipeline:
 
     def _prepare(self, ref: EpisodeRef) -> _Prepared:
         episode = self._episode_of(ref)
-        prompt = build_prompt(episode, self.snapshots.images(episode),
-                              self.config.prompt_config(ref.variant))
+        prompt = build_prompt(
+            episode, self.snapshots.images(episode), self.config.prompt_config(ref.variant)
+        )
         object_ids = episode.object_ids()
         request = prompt.to_request(
             ref.key,
             episode_id=ref.key,
-            meta=RequestMeta(task_id=ref.task_id, gt_plan=episode.gt_plan,
-                             object_ids=tuple(object_ids)),
-            json_schema=plan_json_schema(object_ids) if self.config.generation.constrained
+            meta=RequestMeta(
+                task_id=ref.task_id, gt_plan=episode.gt_plan, object_ids=tuple(object_ids)
+            ),
+            json_schema=plan_json_schema(object_ids)
+            if self.config.generation.constrained
             else None,
         )
-        info = EpisodeInfo(self.store.paths.run_id, ref.key, ref.variant, self.config.model,
-                           prompt.prompt_hash)
+        info = EpisodeInfo(
+            self.store.paths.run_id, ref.key, ref.variant, self.config.model, prompt.prompt_hash
+        )
         return _Prepared(ref, episode, info, request)
 
     def _generate(self, requests: list[GenerationRequest]) -> dict[str, GenerationResult]:
@@ -150,14 +180,16 @@ class EpisodePipeline:
             cached = store.cached_response(p.ref.key, p.info.prompt_hash)
             if cached is not None:
                 self.stats.cached += 1
-                record = scored_record(p.info, p.episode, cached, self.config.scoring,
-                                       cached=True)
+                record = scored_record(p.info, p.episode, cached, self.config.scoring, cached=True)
             else:
                 result = results[p.request.id]
                 if result.error is None:
                     response = CachedResponse(
-                        key=p.ref.key, prompt_hash=p.info.prompt_hash, text=result.text,
-                        latency_s=result.latency_s, prompt_tokens=result.prompt_tokens,
+                        key=p.ref.key,
+                        prompt_hash=p.info.prompt_hash,
+                        text=result.text,
+                        latency_s=result.latency_s,
+                        prompt_tokens=result.prompt_tokens,
                         completion_tokens=result.completion_tokens,
                         finish_reason=result.finish_reason,
                     )
@@ -169,6 +201,7 @@ class EpisodePipeline:
                     if len(self.stats.error_messages) < 5:
                         self.stats.error_messages.append(f"{p.ref.key}: {result.error}")
             if record.ok:
+                record = self._execute(p.episode, record)
                 self.stats.scored += 1
             store.append_record(record)
             self.advance(1)

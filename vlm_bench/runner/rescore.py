@@ -1,4 +1,5 @@
-"""Recompute scores from stored model answers (no model calls), and score a single output."""
+"""Recompute scores (and executions) from stored model answers (no model calls), and score a
+single output."""
 
 from __future__ import annotations
 
@@ -8,6 +9,8 @@ from typing import Any
 
 from vlm_bench.episodes import make_episode
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
+from vlm_bench.runner.execution import PlanExecutor
+from vlm_bench.runner.progress import progress_bar
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import plan_to_json
@@ -25,7 +28,9 @@ class RescoreOutcome:
     manifest: RunManifest
     records: tuple[EpisodeRecord, ...]
     changed: int
-    """Records whose parse, plan, scores or tags changed."""
+    """Records whose parse, plan, scores, tags or execution changed."""
+    executed: int = 0
+    """Plans executed again (runs that execute plans)."""
 
 
 def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
@@ -34,48 +39,75 @@ def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
     if cached is not None:
         return cached
     return CachedResponse(
-        key=record.key, prompt_hash=record.prompt_hash, text=record.raw_output,
-        latency_s=record.latency_s, prompt_tokens=record.prompt_tokens,
-        completion_tokens=record.completion_tokens, finish_reason=record.finish_reason,
+        key=record.key,
+        prompt_hash=record.prompt_hash,
+        text=record.raw_output,
+        latency_s=record.latency_s,
+        prompt_tokens=record.prompt_tokens,
+        completion_tokens=record.completion_tokens,
+        finish_reason=record.finish_reason,
     )
 
 
-def rescore_run(run_dir: Path) -> RescoreOutcome:
+def rescore_run(run_dir: Path, *, progress: bool = False) -> RescoreOutcome:
     """Re-parse and re-score every answered episode of a run with the current code.
 
     Uses the run's own scoring configuration and the response cache; error records are kept
-    as they are (a resume retries them). ``records.jsonl`` is rewritten atomically, one line per
-    episode, keeping each record's timing and token counts.
+    as they are (a resume retries them). When the run executes plans, every plan is executed
+    again with the run's ``uav_noise`` (seconds per episode). ``records.jsonl`` is rewritten
+    atomically, one line per episode, keeping each record's timing and token counts.
+
+    Args:
+        run_dir: The run folder.
+        progress: Show a progress bar on stderr.
 
     Raises:
         NotARunError: ``run_dir`` has no manifest.
         RunLockedError: A run is writing the folder.
     """
     with RunStore.open_existing(run_dir) as store:
-        scoring = store.manifest.config.scoring
+        config = store.manifest.config
+        executor = PlanExecutor(config.uav_noise) if config.execute else None
         episodes: dict[tuple[str, int], Episode] = {}
         out: list[EpisodeRecord] = []
         changed = 0
-        for record in store.records.values():
-            if not record.ok:
-                out.append(record)
-                continue
-            ep_key = (record.task_id, record.seed)
-            if ep_key not in episodes:
-                episodes[ep_key] = make_episode(record.task_id, record.seed)
-            info = EpisodeInfo(record.run_id, record.key, record.variant, record.model,
-                               record.prompt_hash)
-            new = scored_record(info, episodes[ep_key], _response(store, record), scoring,
-                                cached=record.cached)
-            new = new.model_copy(update={"created": record.created})
-            changed += new.without_timing() != record.without_timing()
-            out.append(new)
+        label = f"rescore {store.paths.run_id}"
+        with progress_bar(len(store.records), label, enabled=progress) as advance:
+            for record in store.records.values():
+                new = record
+                if record.ok:
+                    ep_key = (record.task_id, record.seed)
+                    if ep_key not in episodes:
+                        episodes[ep_key] = make_episode(record.task_id, record.seed)
+                    new = _rescored(store, record, episodes[ep_key], config.scoring, executor)
+                    changed += new.without_timing() != record.without_timing()
+                out.append(new)
+                advance(1)
         store.rewrite_records(out)
-        return RescoreOutcome(store.paths.root, store.manifest, tuple(out), changed)
+        executed = executor.executed if executor is not None else 0
+        return RescoreOutcome(store.paths.root, store.manifest, tuple(out), changed, executed)
+
+
+def _rescored(
+    store: RunStore,
+    record: EpisodeRecord,
+    episode: Episode,
+    scoring: ScoringConfig,
+    executor: PlanExecutor | None,
+) -> EpisodeRecord:
+    """The record recomputed from its cached answer (and executed again if ``executor``)."""
+    info = EpisodeInfo(record.run_id, record.key, record.variant, record.model, record.prompt_hash)
+    new = scored_record(info, episode, _response(store, record), scoring, cached=record.cached)
+    if executor is not None:
+        new = executor.execute(episode, new)
+    return new.model_copy(update={"created": record.created})
 
 
 def score_output(
-    task_id: str, seed: int, text: str, variant: InstructionVariant = "explicit",
+    task_id: str,
+    seed: int,
+    text: str,
+    variant: InstructionVariant = "explicit",
     scoring: ScoringConfig | None = None,
 ) -> dict[str, Any]:
     """Score one raw model output against an episode's GT (the ``score`` command).

@@ -1,4 +1,5 @@
-"""Run a configuration into a run folder: create or resume, evaluate pending episodes, close."""
+"""Run a configuration into a run folder: create or resume, evaluate (and execute) pending
+episodes, close."""
 
 from __future__ import annotations
 
@@ -44,10 +45,16 @@ def make_manifest(config: RunConfig, backend_name: str) -> Callable[[str], RunMa
 
     def build(run_id: str) -> RunManifest:
         return RunManifest(
-            run_id=run_id, config=config.redacted(), config_hash=config.config_hash(),
-            backend=backend_name, data=data_hashes(), packages=package_versions(),
-            git_revision=git_revision(), python=platform.python_version(),
-            platform=machine(), created=utc_now(),
+            run_id=run_id,
+            config=config.redacted(),
+            config_hash=config.config_hash(),
+            backend=backend_name,
+            data=data_hashes(),
+            packages=package_versions(),
+            git_revision=git_revision(),
+            python=platform.python_version(),
+            platform=machine(),
+            created=utc_now(),
         )
 
     return build
@@ -100,27 +107,30 @@ def execute_run(
         progress: Show a progress bar on stderr.
 
     Raises:
-        ConfigError: Invalid options (e.g. ``execute``, not available yet).
+        ConfigError: Invalid options (e.g. a resolution above the offscreen buffer).
         UnknownNameError: Unknown task ids.
         RunLockedError: Another process writes the folder.
         ConfigMismatchError: The folder holds a run with another configuration.
     """
-    if config.execute:
-        raise ConfigError("plan execution in the simulator (execute) is not available yet")
     from vlm_bench.sim.environment import OFFSCREEN_SIZE
 
     if config.resolution > OFFSCREEN_SIZE:
-        raise ConfigError(f"resolution {config.resolution} exceeds the simulator's offscreen "
-                          f"buffer; use at most {OFFSCREEN_SIZE}")
+        raise ConfigError(
+            f"resolution {config.resolution} exceeds the simulator's offscreen "
+            f"buffer; use at most {OFFSCREEN_SIZE}"
+        )
     refs = select_episodes(config)
     backend_name = backend.name if backend is not None else split_model(config.model)[0]
-    cache_dir = (default_snapshot_cache(run_dir) if snapshot_cache is True
-                 else snapshot_cache or None)
+    cache_dir = (
+        default_snapshot_cache(run_dir) if snapshot_cache is True else snapshot_cache or None
+    )
     lazy = _LazyBackend(config, backend)
-    with RunStore.create_or_resume(run_dir, config, make_manifest(config, backend_name)) as store, \
-            _snapshot_source(config, cache_dir) as snapshots, \
-            progress_bar(len(refs), f"{store.paths.run_id}", enabled=progress) as advance, \
-            deferred_interrupt() as stop:
+    with (
+        RunStore.create_or_resume(run_dir, config, make_manifest(config, backend_name)) as store,
+        _snapshot_source(config, cache_dir) as snapshots,
+        progress_bar(len(refs), f"{store.paths.run_id}", enabled=progress) as advance,
+        deferred_interrupt() as stop,
+    ):
         try:
             stats = EpisodePipeline(config, store, lazy, snapshots, advance, stop).run(refs)
         finally:

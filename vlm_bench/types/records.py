@@ -12,19 +12,20 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from vlm_bench.types.execution import ExecutionSummary
 from vlm_bench.types.parse import ParseResult
 from vlm_bench.types.scores import PlanScores
 from vlm_bench.types.task import InstructionVariant, Suite
 
-RECORD_SCHEMA_VERSION = 1
-"""Version of the record layout written by this release."""
+RECORD_SCHEMA_VERSION = 2
+"""Version of the record layout written by this release (see :func:`migrate_record`)."""
 
 RecordStatus = Literal["ok", "error"]
 """``ok``: the model answered and the answer was scored (whatever its quality);
 ``error``: the backend failed to answer (server error, timeout); a resume retries it."""
 
 TIMING_FIELDS = frozenset({"latency_s", "created"})
-"""Fields that differ between two otherwise identical runs."""
+"""Fields that differ between two otherwise identical runs (and ``execution.wall_time_s``)."""
 
 
 def episode_key(task_id: str, seed: int, variant: str) -> str:
@@ -72,6 +73,9 @@ class EpisodeRecord(Tolerant):
     completion_tokens: int | None = Field(default=None, description="Generated tokens.")
     finish_reason: str | None = Field(default=None, description="Why generation stopped.")
     cached: bool = Field(default=False, description="The answer came from the response cache.")
+    execution: ExecutionSummary | None = Field(
+        default=None, description="Outcome of replaying the plan (None: not executed)."
+    )
     backend_error: str | None = Field(default=None, description="Backend failure, if any.")
     status: RecordStatus = Field(description="ok or error (see RecordStatus).")
     created: datetime = Field(default_factory=utc_now, description="When it was written (UTC).")
@@ -82,8 +86,12 @@ class EpisodeRecord(Tolerant):
         return self.status == "ok"
 
     def without_timing(self) -> dict[str, Any]:
-        """The record as JSON data minus :data:`TIMING_FIELDS` and ``cached`` (comparisons)."""
-        return self.model_dump(mode="json", exclude=set(TIMING_FIELDS) | {"cached"})
+        """The record as JSON data minus :data:`TIMING_FIELDS`, ``cached`` and the execution's
+        wall time (comparisons)."""
+        data = self.model_dump(mode="json", exclude=set(TIMING_FIELDS) | {"cached"})
+        if data.get("execution") is not None:
+            data["execution"].pop("wall_time_s", None)
+        return data
 
 
 class CachedResponse(Tolerant):
@@ -102,9 +110,11 @@ class CachedResponse(Tolerant):
 def migrate_record(data: dict[str, Any]) -> dict[str, Any]:
     """Upgrade a stored record's JSON to the current layout (before validation).
 
-    Version 1 is the first layout, so there is nothing to upgrade yet; a record without
-    ``schema_version`` is read as version 1. A later layout change bumps
-    :data:`RECORD_SCHEMA_VERSION` and adds its upgrade step here, keyed by the stored version.
+    A record without ``schema_version`` is read as version 1. Version 2 adds ``execution``
+    (absent in version 1 records, read as None: not executed), so no upgrade step is needed yet;
+    the stored version is kept, telling which release wrote the record. A layout change that
+    renames or reshapes fields bumps :data:`RECORD_SCHEMA_VERSION` and adds its upgrade step
+    here, keyed by the stored version.
     """
     version = data.get("schema_version", 1)
     if not isinstance(version, int) or version < 1:

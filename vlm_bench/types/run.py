@@ -6,6 +6,10 @@ how fast results arrive (``generation.batch_size`` and operational backend argum
 ``concurrency`` or ``timeout``) and secrets (backend arguments whose name contains ``key``,
 ``token``, ``secret`` or ``password``, which are also redacted in the saved manifest), so a run can
 be resumed with a different batch size or a fresh API key.
+
+Fields added after the first release (:data:`FIELDS_ADDED_LATER`) enter the hash only when set
+off their default, so configurations that could be written before they existed keep their hash
+(and their default run folder); ``execute`` is hashed as it always was.
 """
 
 from __future__ import annotations
@@ -32,6 +36,9 @@ OPERATIONAL_BACKEND_ARGS = frozenset(
     {"concurrency", "timeout", "max_retries", "retries", "workers", "device", "device_map"}
 )
 """Backend arguments that change speed or placement, never results (left out of the hash)."""
+
+FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0}
+"""Fields added after the first release, with their defaults (hashed only when different)."""
 
 _SECRET = re.compile(r"key|token|secret|password", re.IGNORECASE)
 REDACTED = "***"
@@ -66,7 +73,10 @@ class RunConfig(Frozen):
     )
     scoring: ScoringConfig = Field(default_factory=ScoringConfig, description="Metric options.")
     execute: bool = Field(
-        default=False, description="Reserved: replay plans in the simulator (not available yet)."
+        default=True, description="Replay every valid predicted plan in the simulator."
+    )
+    uav_noise: float = Field(
+        default=0.0, ge=0, description="Gust force std on the UAV (N) during execution."
     )
 
     @field_validator("seeds")
@@ -101,6 +111,12 @@ class RunConfig(Frozen):
             raise ValueError("give tasks or a suite, not both")
         return self
 
+    @model_validator(mode="after")
+    def _noise_needs_execution(self) -> RunConfig:
+        if self.uav_noise > 0 and not self.execute:
+            raise ValueError("uav_noise > 0 needs execute (gusts act only while plans execute)")
+        return self
+
     def prompt_config(self, variant: InstructionVariant) -> PromptConfig:
         """The prompt options of one instruction variant."""
         return PromptConfig(
@@ -115,10 +131,14 @@ class RunConfig(Frozen):
         """The JSON payload :meth:`config_hash` covers (see the module docstring)."""
         data = self.model_dump(mode="json")
         data["backend_args"] = {
-            k: v for k, v in sorted(self.backend_args.items())
+            k: v
+            for k, v in sorted(self.backend_args.items())
             if not is_secret_arg(k) and k not in OPERATIONAL_BACKEND_ARGS
         }
         data["generation"].pop("batch_size", None)
+        for name, default in FIELDS_ADDED_LATER.items():
+            if data.get(name) == default:
+                del data[name]
         return data
 
     def config_hash(self) -> str:

@@ -1,0 +1,124 @@
+"""Replay the plans of a run's records in the simulator (runs and rescore; SPEC §7–§8).
+
+The executable plan of a record is its parse's valid steps (what ``record.plan`` holds); an
+output with no usable plan is not executed (``execution`` stays None and the episode counts as
+not successful). Execution never stops a run: an exception from the executor becomes a failed
+:class:`~vlm_bench.types.execution.ExecutionSummary` whose reason starts with
+:data:`EXECUTOR_CRASH`. The simulator is imported only when a plan is executed.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import time
+from typing import TYPE_CHECKING
+
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig
+from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.records import EpisodeRecord
+
+if TYPE_CHECKING:
+    from vlm_bench.sim.scene import Scene
+
+EXECUTOR_CRASH = "executor raised"
+"""Start of the failure reason of an execution that ended in an exception."""
+
+
+def episode_noise_seed(task_id: str, seed: int) -> int:
+    """Seed of an episode's gusts: stable across runs and machines, and shared by both
+    instruction variants (so their executions face the same wind)."""
+    digest = hashlib.sha256(f"uav-noise|{task_id}|{seed}".encode()).digest()
+    return int.from_bytes(digest[:4], "big")
+
+
+def executor_config(episode: Episode, uav_noise: float) -> ExecutorConfig:
+    """The benchmark's executor settings with ``uav_noise`` and the episode's gust seed."""
+    return ExecutorConfig(
+        uav_noise=uav_noise, noise_seed=episode_noise_seed(episode.task_id, episode.seed)
+    )
+
+
+def record_plan(record: EpisodeRecord) -> list[UavStep | ArmStep] | None:
+    """The steps to execute for ``record``; None when there is no usable, non-empty plan."""
+    if not record.ok or record.parse is None or not record.parse.usable:
+        return None
+    return record.parse.valid_steps() or None
+
+
+def crash_summary(exc: Exception, wall_time_s: float) -> ExecutionSummary:
+    """A failed execution standing for an exception raised by the executor."""
+    return ExecutionSummary(
+        exec_success=False,
+        steps_ok=False,
+        n_steps_done=0,
+        s_task=0.0,
+        sim_time_s=0.0,
+        failure_reason=f"{EXECUTOR_CRASH} {type(exc).__name__}: {exc}",
+        wall_time_s=max(0.0, wall_time_s),
+    )
+
+
+class PlanExecutor:
+    """Executes records' plans; compiles each episode's scene once and replays on copies.
+
+    Args:
+        uav_noise: Gust force std on the UAV (N); 0 = calm.
+    """
+
+    def __init__(self, uav_noise: float = 0.0) -> None:
+        self.uav_noise = uav_noise
+        self.executed = 0
+        """Plans executed."""
+        self.crash_messages: list[str] = []
+        """``key: reason`` of executions that raised (the first few)."""
+        self.crashes = 0
+        """Executions that raised."""
+        self._template: tuple[tuple[str, int], Scene] | None = None
+
+    def scene(self, episode: Episode) -> Scene:
+        """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
+        from vlm_bench.executor.executor import episode_scene
+        from vlm_bench.sim.scene import Scene
+        from vlm_bench.sim.uav_control import UavController
+
+        key = (episode.task_id, episode.seed)
+        if self._template is None or self._template[0] != key:
+            self._template = (key, episode_scene(episode, executor_config(episode, self.uav_noise)))
+        base = self._template[1]
+        model, data = copy.copy(base.model), copy.copy(base.data)
+        controller = UavController(model, data, gust=base.controller.gust)
+        controller.set_setpoint(episode.uav_start.pos, episode.uav_start.yaw_deg)
+        return Scene(episode=episode, spec=base.spec, model=model, data=data, controller=controller)
+
+    def summary(self, episode: Episode, steps: list[UavStep | ArmStep]) -> ExecutionSummary:
+        """Execute ``steps`` on the episode; an exception becomes a failed summary."""
+        return self._run(episode, steps)[0]
+
+    def execute(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord:
+        """``record`` with its plan's execution summary (None when it has no plan to execute)."""
+        steps = record_plan(record)
+        if steps is None:
+            return record.model_copy(update={"execution": None})
+        summary, crash = self._run(episode, steps)
+        if crash is not None and len(self.crash_messages) < 5:
+            self.crash_messages.append(f"{record.key}: {crash}")
+        return record.model_copy(update={"execution": summary})
+
+    def _run(
+        self, episode: Episode, steps: list[UavStep | ArmStep]
+    ) -> tuple[ExecutionSummary, str | None]:
+        from vlm_bench import executor
+
+        start = time.perf_counter()
+        self.executed += 1
+        try:
+            result = executor.execute_plan(
+                episode, steps, executor_config(episode, self.uav_noise), self.scene(episode)
+            )
+        except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
+            self.crashes += 1
+            summary = crash_summary(exc, time.perf_counter() - start)
+            return summary, summary.failure_reason
+        return ExecutionSummary.of(result), None
