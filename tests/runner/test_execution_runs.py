@@ -184,3 +184,18 @@ def test_only_usable_nonempty_plans_are_executed() -> None:
     assert steps == [UavStep(direction=Direction.UP, distance=0.2)]
     failed = record(HOP).model_copy(update={"status": "error"})
     assert record_plan(failed) is None
+
+
+def test_the_same_plan_on_the_same_episode_is_executed_once() -> None:
+    from vlm_bench.episodes import make_episode
+    from vlm_bench.runner.execution import PlanExecutor
+    from vlm_bench.types.plan import ArmStep, Direction, UavStep
+
+    episode = make_episode("standard_pick_place", 0)
+    executor = PlanExecutor()
+    plan: list[UavStep | ArmStep] = [UavStep(direction=Direction.UP, distance=0.1)]
+    first = executor.summary(episode, plan)
+    again = executor.summary(episode, list(plan))
+    assert again == first and executor.executed == 1 and executor.reused == 1
+    other = executor.summary(episode, [UavStep(direction=Direction.DOWN, distance=0.1)])
+    assert executor.executed == 2 and other.n_steps_done == 1

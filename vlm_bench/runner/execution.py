@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import copy
 import hashlib
+import json
 import time
 from typing import TYPE_CHECKING
 
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig
-from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
 from vlm_bench.types.records import EpisodeRecord
 
 if TYPE_CHECKING:
@@ -76,6 +77,11 @@ class PlanExecutor:
         self.crashes = 0
         """Executions that raised."""
         self._template: tuple[tuple[str, int], Scene] | None = None
+        self._memo: dict[str, ExecutionSummary] = {}
+        """Summaries of the current episode's plans: the simulation is deterministic, so the
+        same plan on the same scene (e.g. both instruction variants) is executed once."""
+        self.reused = 0
+        """Executions answered from the memo."""
 
     def scene(self, episode: Episode) -> Scene:
         """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
@@ -86,6 +92,7 @@ class PlanExecutor:
         key = (episode.task_id, episode.seed)
         if self._template is None or self._template[0] != key:
             self._template = (key, episode_scene(episode, executor_config(episode, self.uav_noise)))
+            self._memo.clear()
         base = self._template[1]
         model, data = copy.copy(base.model), copy.copy(base.data)
         controller = UavController(model, data, gust=base.controller.gust)
@@ -111,6 +118,10 @@ class PlanExecutor:
     ) -> tuple[ExecutionSummary, str | None]:
         from vlm_bench import executor
 
+        memo_key = f"{episode.task_id}/{episode.seed}:" + json.dumps(plan_to_json(steps))
+        if memo_key in self._memo:
+            self.reused += 1
+            return self._memo[memo_key], None
         start = time.perf_counter()
         self.executed += 1
         try:
@@ -121,4 +132,6 @@ class PlanExecutor:
             self.crashes += 1
             summary = crash_summary(exc, time.perf_counter() - start)
             return summary, summary.failure_reason
-        return ExecutionSummary.of(result), None
+        summary = ExecutionSummary.of(result)
+        self._memo[memo_key] = summary
+        return summary, None
