@@ -31,13 +31,11 @@ KNOWN_FAILURES = {  # task -> reason observed at seed 0 (benchmarks/oracle_sweep
     "negation_constraint": "step 1: grasp of white_box failed",
     "non_prehensile_push_cube": "step 1: skill 'push' is not available in the executor",
     "pick_left_box_white": "step 2: yellow_basket_2 is out of reach",
-    "pick_left_cup_red": "goal not met: on(red_cup_2, red_plate)",
     "preposition_by_dont": "step 1: skill 'push' is not available in the executor",
     "preposition_onto": "step 1: grasp of blue_mug failed",
     "spatial_ref_middle_drawer": "step 1: skill 'pull' is not available in the executor",
     "spatial_ref_top_drawer": "step 2: skill 'pull' is not available in the executor",
     "stacking_nesting": "step 1: grasp of blue_bowl failed",
-    "standard_pick_place": "step 2: yellow_basket is out of reach",
     "store_and_close": "step 5: skill 'close' is not available in the executor",
     "superlative_highest": "step 2: skill 'pull' is not available in the executor",
     "synonym_center": "step 1: skill 'pull' is not available in the executor",
@@ -50,7 +48,6 @@ KNOWN_FAILURES = {  # task -> reason observed at seed 0 (benchmarks/oracle_sweep
     "variant_chocolate_box": "step 1: grasp of chocolate_box failed",
     "variant_green_nut": "goal not met: inside(green_nut, yellow_basket)",
     "variant_teddy_in_bowl": "step 3: teddy_bear slipped from the gripper",
-    "variant_tomato_can": "goal not met: inside(tomato_can, red_bowl)",
     "verb_drop": "step 1: grasp of banana failed",
 }
 

@@ -29,6 +29,7 @@ PRE_GRASP = 0.12  # m above the grasp point
 LIFT = 0.15  # m
 IK_OK = 0.02  # residual (m + rad) accepted
 MIN_LIFT = 0.08  # m the object must rise for a pick to count
+INNER_REACH = 0.30  # m, horizontal: top-down releases closer to the arm base are moved out
 BASE_ASSIST = (0.0, -0.06, -0.12)  # m: UAV descents tried when the arm alone cannot reach
 
 
@@ -260,7 +261,24 @@ class Grasper:
             rest = float(loop.data.body(dest).xpos[2])
         else:
             rest = float(hi[2])
-        return np.array([centre[0], centre[1], rest + self._hang(held) + 0.02])
+        x, y = self._into_band(centre, lo, hi, held)
+        return np.array([x, y, rest + self._hang(held) + 0.02])
+
+    def _into_band(self, centre: Vec, lo: Vec, hi: Vec, held: str) -> tuple[float, float]:
+        """Release x, y: the destination's centre, moved away from the arm base (within the
+        destination's footprint, the held object kept inside) when the centre lies closer than
+        the inner edge of the top-down workspace."""
+        base = self.loop.data.body(c.ARM_BASE_BODY).xpos
+        offset = centre[:2] - base[:2]
+        dist = float(np.linalg.norm(offset))
+        if dist >= INNER_REACH or dist < 1e-6:
+            return float(centre[0]), float(centre[1])
+        hlo, hhi = object_bounds(self.loop.model, self.loop.data, held, solid_only=True)
+        held_half = float(np.max(hhi[:2] - hlo[:2])) / 2
+        slack = max(0.0, float(np.min(hi[:2] - lo[:2])) / 2 - held_half - 0.02)
+        shift = min(slack, INNER_REACH - dist)
+        x, y = centre[:2] + offset / dist * shift
+        return float(x), float(y)
 
 
 def grasp_skills(loop: SimLoop) -> dict[str, ArmSkill]:
