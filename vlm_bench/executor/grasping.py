@@ -17,10 +17,11 @@ from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.layout import CONTAINER_FLOOR
 from vlm_bench.executor.ik import SEED_POSTURES, TOP_DOWN_SEED, ArmIk
 from vlm_bench.executor.loop import ArmSkill, SimLoop
+from vlm_bench.executor.motion import hold_with_gripper, joint_move, min_jerk
 from vlm_bench.executor.uav_move import fly_to, stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds, subtree_geoms
-from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
+from vlm_bench.sim.robot import arm_qpos, set_arm_targets
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
@@ -31,29 +32,6 @@ IK_OK = 0.02  # residual (m + rad) accepted
 MIN_LIFT = 0.08  # m the object must rise for a pick to count
 INNER_REACH = 0.30  # m, horizontal: top-down releases closer to the arm base are moved out
 BASE_ASSIST = (0.0, -0.06, -0.12)  # m: UAV descents tried when the arm alone cannot reach
-
-
-def _min_jerk(s: float) -> float:
-    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
-
-
-def _joint_move(loop: SimLoop, goal: Vec, seconds: float, gripper: float | None = None) -> None:
-    q0 = arm_qpos(loop.model, loop.data)
-    grip = gripper_target(loop.model, loop.data) if gripper is None else gripper
-    n = max(1, round(seconds / c.CONTROL_DT))
-    for i in range(1, n + 1):
-        set_arm_targets(loop.model, loop.data, q0 + (goal - q0) * _min_jerk(i / n), grip)
-        loop.control_step()
-
-
-def _hold(loop: SimLoop, seconds: float, gripper: float) -> None:
-    set_arm_targets(loop.model, loop.data, _targets(loop), gripper)
-    for _ in range(max(1, round(seconds / c.CONTROL_DT))):
-        loop.control_step()
-
-
-def _targets(loop: SimLoop) -> Vec:
-    return np.array([loop.data.ctrl[loop.model.actuator(a).id] for a in c.ARM_ACTUATORS])
 
 
 class Grasper:
@@ -131,7 +109,7 @@ class Grasper:
         n = max(2, round(seconds / c.CONTROL_DT))
         q = arm_qpos(self.loop.model, self.loop.data)
         for i in range(1, n + 1):
-            point = start + (end - start) * _min_jerk(i / n)
+            point = start + (end - start) * min_jerk(i / n)
             q, res = self.ik.solve(self.loop.data, point, heading, q, iterations=60)
             if res > 3 * IK_OK:
                 return False
@@ -176,18 +154,18 @@ class Grasper:
             return f"{obj} is out of reach"
         q_pre, heading, dz = sol
         self._shift_base(dz)
-        _joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
-        _hold(loop, 0.3, c.GRIPPER_OPEN)
+        joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
+        hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
         if not self._line(above, grasp, heading, 1.5, c.GRIPPER_OPEN):
             return f"{obj} is out of reach"
-        _hold(loop, 0.3, c.GRIPPER_OPEN)
-        _hold(loop, 1.0, c.GRIPPER_CLOSED)
+        hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
+        hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
         z0 = float(loop.data.body(obj).xpos[2])
         if not self._line(
             grasp, grasp + np.array([0.0, 0.0, LIFT]), heading, 1.5, c.GRIPPER_CLOSED
         ):
             return "cannot lift: out of reach"
-        _hold(loop, 0.3, c.GRIPPER_CLOSED)
+        hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
         if not self.touching_fingers(obj) or loop.data.body(obj).xpos[2] - z0 < MIN_LIFT:
             return f"grasp of {obj} failed"
         loop.held = obj
@@ -228,10 +206,10 @@ class Grasper:
             return f"{dest} is out of reach"
         q_above, heading, dz = sol
         self._shift_base(dz)
-        _joint_move(loop, q_above, 2.0, c.GRIPPER_CLOSED)
+        joint_move(loop, q_above, 2.0, c.GRIPPER_CLOSED)
         if not self._line(above, release, heading, 1.2, c.GRIPPER_CLOSED):
             return f"{dest} is out of reach"
-        _hold(loop, 0.6, c.GRIPPER_OPEN)
+        hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
         loop.held = None
         self._line(release, release + np.array([0.0, 0.0, 0.12]), heading, 1.0, c.GRIPPER_OPEN)
         stow_arm(loop, loop.config.flight)

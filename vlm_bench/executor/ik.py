@@ -134,14 +134,6 @@ class ArmIk:
         q = np.clip(self.config.q[self._r_qadr], self.lo, self.hi)
         return q, residual
 
-    def tcp_pose(self, data: mujoco.MjData, q: Vec) -> tuple[Vec, Vec]:
-        """TCP position and rotation matrix for arm angles ``q`` (scratch forward kinematics)."""
-        s = self.scratch
-        s.qpos[:] = data.qpos
-        s.qpos[self.qadr] = q
-        mujoco.mj_kinematics(self.model, s)
-        return s.site_xpos[self.site].copy(), s.site_xmat[self.site].reshape(3, 3).copy()
-
     def collisions(
         self,
         data: mujoco.MjData,

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from vlm_bench.episodes.geometry import move_stop
 from vlm_bench.executor.loop import SimLoop
+from vlm_bench.executor.motion import joint_move
 from vlm_bench.executor.references import Reference
 from vlm_bench.executor.types import FlightConfig
 from vlm_bench.sim.constants import ARM_STOW, CONTROL_DT
@@ -83,20 +84,11 @@ def move_target(
 
 def stow_arm(loop: SimLoop, flight: FlightConfig) -> None:
     """Move the arm to ``ARM_STOW`` along a smooth (minimum-jerk) joint trajectory."""
-    q0 = arm_qpos(loop.model, loop.data)
     goal = np.asarray(ARM_STOW, dtype=np.float64)
-    grip = gripper_target(loop.model, loop.data)
-    if float(np.max(np.abs(q0 - goal))) < STOWED_TOL:
-        set_arm_targets(loop.model, loop.data, goal, grip)
+    if float(np.max(np.abs(arm_qpos(loop.model, loop.data) - goal))) < STOWED_TOL:
+        set_arm_targets(loop.model, loop.data, goal, gripper_target(loop.model, loop.data))
         return
-    n = max(1, round(flight.stow_s / CONTROL_DT))
-    for i in range(1, n + 1):
-        set_arm_targets(loop.model, loop.data, q0 + (goal - q0) * _min_jerk(i / n), grip)
-        loop.control_step()
-
-
-def _min_jerk(s: float) -> float:
-    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+    joint_move(loop, goal, flight.stow_s)
 
 
 def fly_to(loop: SimLoop, target: Vec, flight: FlightConfig) -> None:

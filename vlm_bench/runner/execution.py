@@ -9,7 +9,6 @@ not successful). Execution never stops a run: an exception from the executor bec
 
 from __future__ import annotations
 
-import copy
 import hashlib
 import json
 import time
@@ -86,18 +85,12 @@ class PlanExecutor:
     def scene(self, episode: Episode) -> Scene:
         """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
         from vlm_bench.executor.executor import episode_scene
-        from vlm_bench.sim.scene import Scene
-        from vlm_bench.sim.uav_control import UavController
 
         key = (episode.task_id, episode.seed)
         if self._template is None or self._template[0] != key:
             self._template = (key, episode_scene(episode, executor_config(episode, self.uav_noise)))
             self._memo.clear()
-        base = self._template[1]
-        model, data = copy.copy(base.model), copy.copy(base.data)
-        controller = UavController(model, data, gust=base.controller.gust)
-        controller.set_setpoint(episode.uav_start.pos, episode.uav_start.yaw_deg)
-        return Scene(episode=episode, spec=base.spec, model=model, data=data, controller=controller)
+        return self._template[1].copy()
 
     def summary(self, episode: Episode, steps: list[UavStep | ArmStep]) -> ExecutionSummary:
         """Execute ``steps`` on the episode; an exception becomes a failed summary."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import mujoco
@@ -25,6 +26,16 @@ class Scene:
     model: mujoco.MjModel
     data: mujoco.MjData
     controller: UavController
+
+    def copy(self) -> Scene:
+        """An independent copy of this scene's current state (model and data copied, a new
+        controller with the same gusts holding the episode's start pose); cheaper than
+        rebuilding it."""
+        model, data = copy.copy(self.model), copy.copy(self.data)
+        controller = UavController(model, data, gust=self.controller.gust)
+        start = self.episode.uav_start
+        controller.set_setpoint(start.pos, start.yaw_deg)
+        return Scene(self.episode, self.spec, model, data, controller)
 
 
 def build_spec(episode: Episode) -> mujoco.MjSpec:
