@@ -52,8 +52,12 @@ def test_inside_basket_true_after_settling_and_false_beside(pick_place: Scene) -
     )
     _place(scene, "gray_cube", (basket[0], basket[1], basket[2] + 0.06))
     _settle(scene)
-    assert check_goals(scene.episode, scene.model, scene.data, goals) == (True, True, True, False)
-    # Beside the basket on the table: not inside, not near (basket is 0.32 m long).
+    # Inside is not "near" (preposition_by_dont: next to the basket, not in it).
+    assert check_goals(scene.episode, scene.model, scene.data, goals) == (True, False, True, False)
+    # Beside the basket (0.24 m wide): centre 0.10 m from its footprint is near, 0.18 m is not.
+    _place(scene, "gray_cube", (basket[0], basket[1] + 0.22, 0.751))
+    _settle(scene)
+    assert check_goals(scene.episode, scene.model, scene.data, goals) == (False, True, True, False)
     _place(scene, "gray_cube", (basket[0], basket[1] + 0.30, 0.751))
     _settle(scene)
     assert check_goals(scene.episode, scene.model, scene.data, goals) == (False, False, True, False)

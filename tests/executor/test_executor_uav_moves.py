@@ -11,6 +11,7 @@ import pytest
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.episodes.ground_truth import DRAWER_PULL
 from vlm_bench.executor.executor import execute_plan, next_arm_step, run_move
+from vlm_bench.executor.grasping import grasp_skills
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.references import Reference, StepReferences
 from vlm_bench.executor.uav_move import move_target
@@ -88,13 +89,14 @@ def test_move_target_stops_at_standoff_and_altitude() -> None:
 
 
 def test_execute_plan_fails_unavailable_skill_and_skips_rest() -> None:
+    """A skill set without ``push`` (e.g. a user's policy skills) fails that step."""
     episode = make_episode("standard_pick_place", 0)
     plan = [
         UavStep(direction=Direction.UP, distance=0.1),
         ArmStep(object="gray_cube", skill="push"),
         UavStep(direction=Direction.DOWN, distance=0.1),
     ]
-    result = execute_plan(episode, plan)
+    result = execute_plan(episode, plan, arm_skills=grasp_skills)
     assert [s.status for s in result.steps] == ["ok", "failed", "skipped"]
     assert result.n_steps_done == 1 and not result.exec_success
     assert result.failure_reason is not None and "push" in result.failure_reason

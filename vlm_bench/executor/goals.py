@@ -23,7 +23,7 @@ from vlm_bench.types.task import Goal
 
 Vec = NDArray[np.float64]
 INSIDE_MAX_CENTRE_DIST = 0.20  # m, official evaluator's upper bound
-NEAR_DIST = 0.15  # m, horizontal
+NEAR_DIST = 0.15  # m, horizontal, object centre to target footprint
 UPRIGHT_MAX_TILT_DEG = 20.0
 DRAWER_OPEN = 0.30  # m
 DRAWER_CLOSED = 0.02  # m
@@ -107,8 +107,18 @@ def is_off_surface(state: GoalState, obj: str, surface: str) -> bool:
 
 
 def is_near(state: GoalState, obj: str, target: str) -> bool:
-    """Horizontal centre distance at most 0.15 m."""
-    return _horizontal(state.box(obj).centre, state.box(target).centre) <= NEAR_DIST
+    """Object's centre at most 0.15 m (horizontally) from the target's footprint, and not on
+    or in it.
+
+    Measured to the footprint rather than the target's centre: from outside a basket
+    (0.32 × 0.24 m), no centre comes within 0.15 m of the basket's centre.
+    """
+    o, t = state.box(obj), state.box(target)
+    if state.in_footprint(o.centre, target) and o.bottom >= t.bottom + FLOOR_TOL:
+        return False
+    lo, hi = object_bounds(state.model, state.data, target, solid_only=True)
+    nearest = np.clip(o.centre[:2], lo[:2], hi[:2])
+    return _horizontal(o.centre, nearest) <= NEAR_DIST
 
 
 def check_goal(state: GoalState, goal: Goal) -> bool:

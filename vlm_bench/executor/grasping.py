@@ -15,35 +15,30 @@ from numpy.typing import NDArray
 
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.layout import CONTAINER_FLOOR
-from vlm_bench.executor.ik import SEED_POSTURES, TOP_DOWN_SEED, ArmIk
+from vlm_bench.executor.arm import Arm
+from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
-from vlm_bench.executor.motion import hold_with_gripper, joint_move, min_jerk
-from vlm_bench.executor.uav_move import fly_to, stow_arm
+from vlm_bench.executor.motion import hold_with_gripper, joint_move
+from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds, subtree_geoms
-from vlm_bench.sim.robot import arm_qpos, set_arm_targets
+from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
 Vec = NDArray[np.float64]
 PRE_GRASP = 0.12  # m above the grasp point
 LIFT = 0.15  # m
-IK_OK = 0.02  # residual (m + rad) accepted
 MIN_LIFT = 0.08  # m the object must rise for a pick to count
 INNER_REACH = 0.30  # m, horizontal: top-down releases closer to the arm base are moved out
-BASE_ASSIST = (0.0, -0.06, -0.12)  # m: UAV descents tried when the arm alone cannot reach
 
 
 class Grasper:
     """Pick and place for one scene (what is held lives in ``loop.held``)."""
 
-    def __init__(self, loop: SimLoop) -> None:
+    def __init__(self, loop: SimLoop, arm: Arm | None = None) -> None:
         self.loop = loop
-        self.ik = ArmIk(loop.model)
-        self._fingers = {
-            side: set(subtree_geoms(loop.model, loop.model.body(name).id))
-            for side, name in (("l", c.LEFT_FINGER_BODY), ("r", c.RIGHT_FINGER_BODY))
-        }
+        self.arm = arm or Arm(loop)
 
     def _plan_top_down(
         self,
@@ -53,81 +48,16 @@ class Grasper:
         ignore: set[int],
         gripper: float,
         seed: Vec,
-    ) -> tuple[Vec, float, float] | None:
-        """Joint angles at ``point + approach``, heading and base adjustment for a top-down
-        motion down to ``point``.
-
-        Of the four headings equivalent for a box-like object (or a held one), prefer the one
-        whose hand touches nothing outside ``ignore`` at both ends, then the one farthest from
-        the joint limits. Where no heading reaches from the UAV's pose (a point at the inner
-        edge of the workspace), the UAV may descend by up to ``BASE_ASSIST[-1]`` m.
-        """
-        data = self.loop.data
-        for dz in BASE_ASSIST:
-            best: tuple[Vec, float, float] | None = None
-            best_key = (math.inf, -math.inf)
-            for k in range(4):
-                heading = yaw_rad + k * math.pi / 2
-                q_end, res = self._solve_any(point, heading, seed, dz)
-                if res > IK_OK:
-                    continue
-                q_start, res = self.ik.solve(data, point + approach, heading, q_end, base_dz=dz)
-                if res > IK_OK:
-                    continue
-                hits = len(self.ik.collisions(data, q_end, ignore, gripper, dz))
-                hits += len(self.ik.collisions(data, q_start, ignore, gripper, dz))
-                margin = float(np.min(np.minimum(q_end - self.ik.lo, self.ik.hi - q_end)))
-                key = (float(hits), -margin)
-                if key < best_key:
-                    best, best_key = (q_start, heading, dz), key
-            if best is not None and best_key[0] == 0:
-                return best
-        return best
-
-    def _shift_base(self, dz: float) -> None:
-        """Fly the UAV ``dz`` up (negative: down) and let it settle."""
-        if dz:
-            target = np.array(self.loop.controller.setpoint) + np.array([0.0, 0.0, dz])
-            fly_to(self.loop, target, self.loop.config.flight)
-
-    def _solve_any(
-        self, point: Vec, heading: float, seed: Vec, base_dz: float = 0.0
-    ) -> tuple[Vec, float]:
-        """IK from ``seed``, then from the known postures, until one converges."""
-        best: tuple[Vec, float] = (seed, math.inf)
-        for start in (seed, *SEED_POSTURES):
-            q, res = self.ik.solve(
-                self.loop.data, point, heading, np.asarray(start), base_dz=base_dz
-            )
-            if res < best[1]:
-                best = (q, res)
-            if res < IK_OK:
-                break
-        return best
-
-    def _line(self, start: Vec, end: Vec, heading: float, seconds: float, gripper: float) -> bool:
-        n = max(2, round(seconds / c.CONTROL_DT))
-        q = arm_qpos(self.loop.model, self.loop.data)
-        for i in range(1, n + 1):
-            point = start + (end - start) * min_jerk(i / n)
-            q, res = self.ik.solve(self.loop.data, point, heading, q, iterations=60)
-            if res > 3 * IK_OK:
-                return False
-            set_arm_targets(self.loop.model, self.loop.data, q, gripper)
-            self.loop.control_step()
-        return True
+    ) -> tuple[Vec, Vec, Vec] | None:
+        """Joint angles at ``point + approach``, orientation and base adjustment for a
+        top-down motion down to ``point``, over the four headings equivalent for a box-like
+        object (or a held one)."""
+        rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(4)]
+        return self.arm.plan(point, approach, rotations, ignore, gripper, seed)
 
     def touching_fingers(self, obj: str) -> bool:
         """Whether both fingers touch ``obj``."""
-        geoms = set(subtree_geoms(self.loop.model, self.loop.model.body(obj).id))
-        hit = {"l": False, "r": False}
-        d = self.loop.data
-        for i in range(d.ncon):
-            g1, g2 = int(d.contact.geom[i][0]), int(d.contact.geom[i][1])
-            for side, fingers in self._fingers.items():
-                if (g1 in fingers and g2 in geoms) or (g2 in fingers and g1 in geoms):
-                    hit[side] = True
-        return hit["l"] and hit["r"]
+        return self.arm.touching_fingers(obj)
 
     def pick(self, episode: Episode, step: ArmStep) -> str | None:
         """Top-down grasp of ``step.object``; ``None`` on success, else the reason."""
@@ -152,24 +82,23 @@ class Grasper:
         )
         if sol is None:
             return f"{obj} is out of reach"
-        q_pre, heading, dz = sol
-        self._shift_base(dz)
+        q_pre, rot, shift = sol
+        arm = self.arm
+        arm.shift_base(shift)
         joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
-        if not self._line(above, grasp, heading, 1.5, c.GRIPPER_OPEN):
+        if not arm.line(above, grasp, rot, 1.5, c.GRIPPER_OPEN):
             return f"{obj} is out of reach"
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
         z0 = float(loop.data.body(obj).xpos[2])
-        if not self._line(
-            grasp, grasp + np.array([0.0, 0.0, LIFT]), heading, 1.5, c.GRIPPER_CLOSED
-        ):
+        if not arm.line(grasp, grasp + np.array([0.0, 0.0, LIFT]), rot, 1.5, c.GRIPPER_CLOSED):
             return "cannot lift: out of reach"
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
         if not self.touching_fingers(obj) or loop.data.body(obj).xpos[2] - z0 < MIN_LIFT:
             return f"grasp of {obj} failed"
         loop.held = obj
-        self._shift_base(-dz)
+        arm.shift_base(-shift)
         return None
 
     def place(self, episode: Episode, step: ArmStep) -> str | None:
@@ -184,14 +113,13 @@ class Grasper:
             loop.held = None
             return f"{held} slipped from the gripper"
         release = self._release_point(episode, held, dest)
-        tcp = np.array(loop.data.site(c.TCP_SITE).xpos)
+        arm = self.arm
+        tcp, rot = arm.tcp()
         clearance = max(0.0, self._top_under(dest) - (release[2] - self._hang(held))) + 0.05
         above = release + np.array([0.0, 0.0, clearance])
-        rot = loop.data.site(c.TCP_SITE).xmat.reshape(3, 3)
         heading = math.atan2(rot[1, 0], rot[0, 0])
-        if not self._line(
-            tcp, np.array([tcp[0], tcp[1], max(tcp[2], above[2])]), heading, 0.8, c.GRIPPER_CLOSED
-        ):
+        lift_to = np.array([tcp[0], tcp[1], max(tcp[2], above[2])])
+        if not arm.line(tcp, lift_to, top_down_rotation(heading), 0.8, c.GRIPPER_CLOSED):
             return "cannot lift the held object"
         ignore = set(subtree_geoms(loop.model, loop.model.body(held).id))
         sol = self._plan_top_down(
@@ -204,16 +132,16 @@ class Grasper:
         )
         if sol is None:
             return f"{dest} is out of reach"
-        q_above, heading, dz = sol
-        self._shift_base(dz)
+        q_above, rot, shift = sol
+        arm.shift_base(shift)
         joint_move(loop, q_above, 2.0, c.GRIPPER_CLOSED)
-        if not self._line(above, release, heading, 1.2, c.GRIPPER_CLOSED):
+        if not arm.line(above, release, rot, 1.2, c.GRIPPER_CLOSED):
             return f"{dest} is out of reach"
         hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
         loop.held = None
-        self._line(release, release + np.array([0.0, 0.0, 0.12]), heading, 1.0, c.GRIPPER_OPEN)
+        arm.line(release, release + np.array([0.0, 0.0, 0.12]), rot, 1.0, c.GRIPPER_OPEN)
         stow_arm(loop, loop.config.flight)
-        self._shift_base(-dz)
+        arm.shift_base(-shift)
         return None
 
     def _hang(self, held: str) -> float:
@@ -259,9 +187,9 @@ class Grasper:
         return float(x), float(y)
 
 
-def grasp_skills(loop: SimLoop) -> dict[str, ArmSkill]:
+def grasp_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
     """``pick`` and ``place`` bound to one loop (they share what is held)."""
-    grasper = Grasper(loop)
+    grasper = Grasper(loop, arm)
     return {
         "pick": lambda _loop, episode, step: grasper.pick(episode, step),
         "place": lambda _loop, episode, step: grasper.place(episode, step),

@@ -48,6 +48,16 @@ def top_down_rotation(heading_rad: float) -> Vec:
     return np.array([[ch, sh, 0.0], [sh, -ch, 0.0], [0.0, 0.0, -1.0]])
 
 
+def frontal_rotation(normal: Vec, fingers_up: bool = True) -> Vec:
+    """TCP orientation approaching a vertical surface with outward ``normal`` (horizontal):
+    the approach axis (z) points into the surface and the fingers close vertically (y axis
+    along world ±z), to grasp a horizontal bar."""
+    n = np.asarray(normal, dtype=np.float64)
+    z = -n / np.linalg.norm(n)
+    y = np.array([0.0, 0.0, 1.0 if fingers_up else -1.0])
+    return np.column_stack([np.cross(y, z), y, z])
+
+
 class ArmIk:
     """IK solver for one scene's arm.
 
@@ -83,12 +93,13 @@ class ArmIk:
         self.freeze = mink.DofFreezingTask(self.robot, [int(d) for d in [*uav_dofs, *finger_dofs]])
         self.limits = [mink.ConfigurationLimit(self.robot)]
 
-    def _load(self, data: mujoco.MjData, q: Vec, base_dz: float) -> None:
-        """Robot-model configuration: the scene's UAV pose (raised by ``base_dz``) with arm
+    def _load(self, data: mujoco.MjData, q: Vec, base: Vec | None) -> None:
+        """Robot-model configuration: the scene's UAV pose (moved by ``base``) with arm
         angles ``q``."""
         qpos = self.config.q.copy()
         qpos[self._r_uav : self._r_uav + 7] = data.qpos[self._uav_qadr : self._uav_qadr + 7]
-        qpos[self._r_uav + 2] += base_dz
+        if base is not None:
+            qpos[self._r_uav : self._r_uav + 3] += base
         qpos[self._r_qadr] = q
         self.config.update(qpos)
 
@@ -96,21 +107,22 @@ class ArmIk:
         self,
         data: mujoco.MjData,
         pos: Vec,
-        heading_rad: float,
+        rotation: Vec,
         seed: Vec,
         iterations: int = 200,
-        base_dz: float = 0.0,
+        base: Vec | None = None,
     ) -> tuple[Vec, float]:
-        """Joint angles putting the TCP at ``pos`` pointing down, x axis along ``heading_rad``,
-        with the UAV where it is (or ``base_dz`` higher, to plan a base adjustment).
+        """Joint angles putting the TCP at ``pos`` with orientation ``rotation`` (3×3, world;
+        see :func:`top_down_rotation`), with the UAV where it is (or moved by ``base``, m, to
+        plan a base adjustment).
 
         Returns the solution and its residual (position error in m plus rotation error in
         rad); the caller decides whether it is good enough.
         """
         q0 = np.clip(np.asarray(seed, dtype=np.float64), self.lo, self.hi)
-        self._load(data, q0, base_dz)
+        self._load(data, q0, base)
         target = mink.SE3.from_rotation_and_translation(
-            mink.SO3.from_matrix(top_down_rotation(heading_rad)), np.asarray(pos)
+            mink.SO3.from_matrix(np.asarray(rotation)), np.asarray(pos)
         )
         self.frame.set_target(target)
         self.posture.set_target(self.config.q.copy())
@@ -132,6 +144,12 @@ class ArmIk:
             )
             self.config.integrate_inplace(vel, DT)
         q = np.clip(self.config.q[self._r_qadr], self.lo, self.hi)
+        if not np.array_equal(q, self.config.q[self._r_qadr]):  # the residual of what is returned
+            qpos = self.config.q.copy()
+            qpos[self._r_qadr] = q
+            self.config.update(qpos)
+            err = self.frame.compute_error(self.config)
+            residual = float(np.linalg.norm(err[:3])) + float(np.linalg.norm(err[3:]))
         return q, residual
 
     def collisions(
@@ -140,13 +158,14 @@ class ArmIk:
         q: Vec,
         ignore: set[int],
         gripper: float | None = None,
-        base_dz: float = 0.0,
+        base: Vec | None = None,
     ) -> list[int]:
         """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
-        ``base_dz`` higher), other than the geoms in ``ignore``."""
+        moved by ``base``), other than the geoms in ``ignore``."""
         s = self.scratch
         s.qpos[:] = data.qpos
-        s.qpos[self._uav_qadr + 2] += base_dz
+        if base is not None:
+            s.qpos[self._uav_qadr : self._uav_qadr + 3] += base
         s.qpos[self.qadr] = q
         if gripper is not None:
             for name in c.FINGER_JOINTS:

@@ -1,0 +1,55 @@
+"""push slides objects by finger contact: next to a target, or off their support."""
+
+from __future__ import annotations
+
+import pytest
+
+from vlm_bench.episodes.generate import make_episode
+from vlm_bench.executor import execute_plan
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.plan import ArmStep
+
+
+@pytest.fixture(scope="module")
+def push_cube() -> Episode:
+    return make_episode("non_prehensile_push_cube", 0)
+
+
+def test_push_next_to_target_moves_the_cube_without_lifting_it(push_cube: Episode) -> None:
+    heights: list[float] = []
+    result = execute_plan(
+        push_cube,
+        push_cube.gt_plan,
+        observers=[lambda loop: heights.append(float(loop.data.body("blue_cube").xpos[2]))],
+    )
+    assert result.exec_success, result.failure_reason
+    assert max(heights) - min(heights) < 0.01  # slid, never lifted
+    assert result.displacement.get("yellow_basket", 0.0) < 0.01  # the distractor stays
+
+
+def test_pushing_towards_the_distractor_misses_the_goal(push_cube: Episode) -> None:
+    move, _ = push_cube.gt_plan
+    plan = [move, ArmStep(object="blue_cube", skill="push", target="yellow_basket")]
+    result = execute_plan(push_cube, plan)
+    assert result.goals == (False,) and not result.exec_success
+
+
+@pytest.mark.parametrize(
+    ("step", "reason"),
+    [
+        (ArmStep(object="table", skill="push"), "table cannot be pushed"),
+        (ArmStep(object="ghost", skill="push"), "unknown object 'ghost'"),
+    ],
+)
+def test_push_of_what_cannot_move_fails_with_a_reason(
+    push_cube: Episode, step: ArmStep, reason: str
+) -> None:
+    result = execute_plan(push_cube, [push_cube.gt_plan[0], step])
+    assert result.failure_reason == f"step 1: {reason}"
+
+
+def test_push_without_target_takes_the_box_off_the_table() -> None:
+    episode = make_episode("clear_desk_push_box", 0)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+    assert result.displacement["white_box"] < 0.01  # the look-alike stays

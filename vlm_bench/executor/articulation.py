@@ -1,0 +1,265 @@
+"""Scripted skills on articulated parts: ``pull`` and ``close`` a drawer, ``rotate`` a knob.
+
+Drawers: the open hand approaches the bar handle from the front (approach axis into the
+drawer, fingers closing vertically around the bar), closes on it, and slides it along the
+drawer's axis — by the arm where it reaches, then by the UAV carrying the hand the rest of the
+way — before letting go, backing off and flying back. ``pull`` opens to ``PULL_TO`` (SPEC §7:
+≥ 0.35 m), ``close`` pushes home.
+
+Knobs: a top-down grasp of the knob's grip, then the hand turns about the vertical by
+``TURN_DEG`` (SPEC §7: ≥ 90°) with the TCP kept in place, and lets go.
+
+Each succeeds only if the part really moved that far (its joint is read from the simulation).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from vlm_bench.executor.arm import IK_OK, Arm
+from vlm_bench.executor.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
+from vlm_bench.executor.loop import ArmSkill, SimLoop
+from vlm_bench.executor.motion import hold_with_gripper, joint_move
+from vlm_bench.executor.uav_move import stow_arm
+from vlm_bench.sim import constants as c
+from vlm_bench.sim.constants import part_handle_site, part_joint
+from vlm_bench.sim.robot import arm_qpos, set_arm_targets
+from vlm_bench.types.episode import Episode, PartRef
+from vlm_bench.types.plan import ArmStep
+
+Vec = NDArray[np.float64]
+PULL_TO = 0.38  # m: drawer opening a pull aims for (travel 0.40; SPEC ≥ 0.35)
+PULL_MIN = 0.35  # m: a pull counts from this opening
+CLOSED_MAX = 0.02  # m: a close counts below this opening
+PRE_HANDLE = 0.10  # m in front of the handle where the straight approach starts
+SLIDE_SPEED = 0.10  # m/s
+TURN_DEG = 105.0  # knob turn commanded (SPEC ≥ 90°)
+TURN_MIN_DEG = 90.0
+KNOB_GRIP_DEPTH = 0.022  # m below the knob's top where the fingers hold it
+TURN_S = 3.0  # s for the turn
+RETREAT = 0.08  # m the open hand backs off the handle at least...
+CLEAR_OF_HANDLE = 0.50  # m: ...and until the arm base is this far (horizontally) from it
+BACK_ASSIST = (0.0, 0.1, 0.2)  # m the UAV may back away from a handle before grasping it
+
+
+class Articulator:
+    """``pull``, ``close`` and ``rotate`` for one scene."""
+
+    def __init__(self, loop: SimLoop, arm: Arm | None = None) -> None:
+        self.loop = loop
+        self.arm = arm or Arm(loop)
+
+    # ---- helpers ------------------------------------------------------------------------
+    def _part(self, episode: Episode, name: str, kind: str) -> PartRef | str:
+        """The part, or the reason the step cannot act on it."""
+        parts = {p.id: p for p in episode.parts}
+        if name not in parts:
+            if name in episode.object_ids():
+                return f"{name} has no {kind} to act on"
+            return f"unknown object {name!r}"
+        part = parts[name]
+        if part.kind != kind:
+            return f"{name} is a {part.kind}, not a {kind}"
+        if self.loop.held is not None:
+            return f"cannot operate {name} while holding {self.loop.held}"
+        return part
+
+    def joint(self, part: str) -> float:
+        """The part's joint position now (m for a drawer, rad for a knob)."""
+        model, data = self.loop.model, self.loop.data
+        return float(data.qpos[model.joint(part_joint(part)).qposadr[0]])
+
+    def _handle(self, part: PartRef) -> tuple[Vec, Vec]:
+        """The handle's grasp point and the drawer's outward axis (horizontal, world)."""
+        data = self.loop.data
+        point = np.array(data.site(part_handle_site(part.id)).xpos)
+        axis = np.array(data.body(part.parent).xmat).reshape(3, 3)[:, 0]
+        axis[2] = 0.0
+        return point, axis / np.linalg.norm(axis)
+
+    def _grasp_handle(self, part: PartRef) -> tuple[Vec, Vec] | str:
+        """Grasp the drawer's bar handle from the front; the UAV's move and the hand's
+        orientation on success, else the reason."""
+        arm, loop = self.arm, self.loop
+        point, axis = self._handle(part)
+        rotations = [frontal_rotation(axis, up) for up in (True, False)]
+        ignore = arm.body_geoms(part.id)
+        assists = [np.append(axis[:2] * b, dz) for b in BACK_ASSIST for dz in (0.0, -0.1, 0.1)]
+        sol = None
+        for shift in assists:
+            sol = arm.plan(
+                point,
+                axis * PRE_HANDLE,
+                rotations,
+                ignore,
+                c.GRIPPER_OPEN,
+                np.asarray(TOP_DOWN_SEED),
+                assist=(shift,),
+            )
+            if sol is not None and not arm.ik.collisions(
+                loop.data, sol[0], ignore, c.GRIPPER_OPEN, shift
+            ):
+                break
+        else:
+            return f"the handle of {part.id} is out of reach"
+        q_pre, rot, shift = sol
+        arm.shift_base(shift)
+        joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
+        point, axis = self._handle(part)
+        if not arm.line(point + axis * PRE_HANDLE, point, rot, 1.5, c.GRIPPER_OPEN):
+            self._let_go(axis, shift)
+            return f"the handle of {part.id} is out of reach"
+        hold_with_gripper(loop, 0.8, c.GRIPPER_CLOSED)
+        if not arm.touching(ignore):
+            self._let_go(axis, shift)
+            return f"grasp of the handle of {part.id} failed"
+        return shift, rot
+
+    def _slide(self, part: PartRef, rot: Vec, distance: float) -> Vec:
+        """Move the grasped handle ``distance`` along the drawer's outward axis (negative:
+        inwards): by the arm as far as IK follows, then by the UAV; returns the UAV's move."""
+        arm = self.arm
+        start, axis = self._handle(part)
+        end = start + axis * distance
+        arm.line(start, end, rot, max(1.5, abs(distance) / SLIDE_SPEED), c.GRIPPER_CLOSED)
+        rest = float(np.dot(end - arm.tcp()[0], axis * math.copysign(1.0, distance)))
+        if rest > 0.01:
+            step = axis * math.copysign(rest, distance)
+            arm.carry(step, SLIDE_SPEED)
+            return step
+        return np.zeros(3)
+
+    def _let_go(self, axis: Vec, back: Vec, return_xy: bool = True) -> None:
+        """Open, back the hand off along ``axis`` until the stowed arm clears the handle (the
+        UAV carries it: the arm is usually folded as far as it goes), stow, and undo the UAV's
+        moves (``back`` and the retreat; only their vertical part unless ``return_xy``: flying
+        back to where a drawer was pulled from would run the stowed arm into it)."""
+        loop, arm = self.loop, self.arm
+        hold_with_gripper(loop, 0.5, c.GRIPPER_OPEN)
+        base = loop.data.body(c.ARM_BASE_BODY).xpos
+        tcp, _ = arm.tcp()
+        gap = float(np.dot(base[:2] - tcp[:2], axis[:2]))
+        retreat = axis * max(RETREAT, CLEAR_OF_HANDLE - gap)
+        arm.carry(retreat, SLIDE_SPEED)
+        stow_arm(loop, loop.config.flight)
+        undo = -(back + retreat)
+        arm.shift_base(undo if return_xy else np.array([0.0, 0.0, undo[2]]))
+
+    def _move_drawer(self, episode: Episode, step: ArmStep, opening: float) -> str | None:
+        """Grasp the drawer's handle, slide it to ``opening`` (m) and let go."""
+        part = self._part(episode, step.object, "drawer")
+        if isinstance(part, str):
+            return part
+        grasp = self._grasp_handle(part)
+        if isinstance(grasp, str):
+            return grasp
+        shift, rot = grasp
+        _, axis = self._handle(part)
+        carried = self._slide(part, rot, opening - self.joint(part.id))
+        self._let_go(axis, shift + carried, return_xy=opening < self.joint(part.id))
+        return None
+
+    # ---- skills -----------------------------------------------------------------------
+    def pull(self, episode: Episode, step: ArmStep) -> str | None:
+        """Open the drawer ``step.object`` to ``PULL_TO``; ``None`` on success."""
+        reason = self._move_drawer(episode, step, PULL_TO)
+        if reason is None and self.joint(step.object) < PULL_MIN:
+            return f"{step.object} opened only {self.joint(step.object):.2f} m"
+        return reason
+
+    def close(self, episode: Episode, step: ArmStep) -> str | None:
+        """Push the drawer ``step.object`` shut; ``None`` on success."""
+        reason = self._move_drawer(episode, step, -0.01)
+        if reason is None and self.joint(step.object) > CLOSED_MAX:
+            return f"{step.object} is still {self.joint(step.object):.2f} m open"
+        return reason
+
+    def rotate(self, episode: Episode, step: ArmStep) -> str | None:
+        """Turn the knob ``step.object`` by ``TURN_DEG``; ``None`` on success."""
+        part = self._part(episode, step.object, "knob")
+        if isinstance(part, str):
+            return part
+        loop, arm = self.loop, self.arm
+        site = np.array(loop.data.site(part_handle_site(part.id)).xpos)
+        knob_top = float(loop.data.body(part.id).xpos[2]) + 0.045
+        grip = np.array([site[0], site[1], knob_top - KNOB_GRIP_DEPTH])
+        plan = self._plan_turn(part, grip)
+        if plan is None:
+            return f"{part.id} is out of reach"
+        q_pre, heading, shift = plan
+        ignore = arm.body_geoms(part.id)
+        arm.shift_base(shift)
+        joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
+        rot = top_down_rotation(heading)
+        above = grip + np.array([0.0, 0.0, PRE_HANDLE])
+        if not arm.line(above, grip, rot, 1.5, c.GRIPPER_OPEN):
+            stow_arm(loop, loop.config.flight)
+            arm.shift_base(-shift)
+            return f"{part.id} is out of reach"
+        hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
+        start = self.joint(part.id)
+        if arm.touching(ignore):
+            self._turn(grip, heading, math.radians(TURN_DEG))
+        turned = math.degrees(self.joint(part.id) - start)
+        hold_with_gripper(loop, 0.5, c.GRIPPER_OPEN)
+        arm.line(grip, above, rot, 1.0, c.GRIPPER_OPEN)
+        stow_arm(loop, loop.config.flight)
+        arm.shift_base(-shift)
+        if turned < TURN_MIN_DEG:
+            return f"{part.id} turned only {turned:.0f}°"
+        return None
+
+    def _plan_turn(self, part: PartRef, grip: Vec) -> tuple[Vec, float, Vec] | None:
+        """Pre-grasp posture, start heading and UAV move from which the hand reaches the grip
+        at the start and at the end of the turn, touching nothing but the knob."""
+        arm, data = self.arm, self.loop.data
+        ignore = arm.body_geoms(part.id)
+        turn = math.radians(TURN_DEG)
+        best: tuple[float, tuple[Vec, float, Vec]] | None = None
+        for shift in (np.zeros(3), np.array([0.0, 0.0, -0.06]), np.array([0.0, 0.0, -0.12])):
+            for k in range(8):
+                heading = -math.pi + k * math.pi / 4
+                rot0, rot1 = top_down_rotation(heading), top_down_rotation(heading + turn)
+                q0, res0 = arm.solve_any(grip, rot0, np.asarray(TOP_DOWN_SEED), shift)
+                if res0 > IK_OK or arm.ik.collisions(data, q0, ignore, c.GRIPPER_OPEN, shift):
+                    continue
+                q1, res1 = arm.ik.solve(data, grip, rot1, q0, base=shift)
+                if res1 > IK_OK or abs(float(q1[6] - q0[6])) < 0.8 * turn:
+                    continue
+                above = grip + np.array([0.0, 0.0, PRE_HANDLE])
+                q_pre, res = arm.ik.solve(data, above, rot0, q0, base=shift)
+                if res > IK_OK:
+                    continue
+                margin = float(np.min(np.minimum(q1 - arm.ik.lo, arm.ik.hi - q1)))
+                if best is None or margin > best[0]:
+                    best = (margin, (q_pre, heading, shift))
+            if best is not None:
+                return best[1]
+        return None
+
+    def _turn(self, grip: Vec, heading: float, turn: float) -> None:
+        """Turn the closed hand about the vertical through ``grip`` by ``turn`` rad."""
+        loop, arm = self.loop, self.arm
+        n = max(2, round(TURN_S / c.CONTROL_DT))
+        q = arm_qpos(loop.model, loop.data)
+        for i in range(1, n + 1):
+            rot = top_down_rotation(heading + turn * i / n)
+            q, res = arm.ik.solve(loop.data, grip, rot, q, iterations=60)
+            if res > 3 * IK_OK:
+                return
+            set_arm_targets(loop.model, loop.data, q, c.GRIPPER_CLOSED)
+            loop.control_step()
+        loop.hold(0.3)
+
+
+def articulation_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
+    """``pull``, ``close`` and ``rotate`` bound to one loop."""
+    art = Articulator(loop, arm)
+    return {
+        "pull": lambda _loop, episode, step: art.pull(episode, step),
+        "close": lambda _loop, episode, step: art.close(episode, step),
+        "rotate": lambda _loop, episode, step: art.rotate(episode, step),
+    }
