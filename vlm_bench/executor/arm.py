@@ -21,6 +21,8 @@ Vec = NDArray[np.float64]
 IK_OK = 0.02  # residual (m + rad) accepted
 BASE_ASSIST = tuple(np.array([0.0, 0.0, dz]) for dz in (0.0, -0.06, -0.12))
 """UAV moves (m) tried, in order, when the arm alone cannot reach: descents."""
+INNER_EDGE = 0.30  # m, horizontal: closer to the arm base, a top-down reach folds the elbow
+BACK_OFF_TO = 0.36  # m, horizontal: where backing away puts such a point
 
 
 class Arm:
@@ -59,7 +61,7 @@ class Arm:
         ignore: set[int],
         gripper: float,
         seed: Vec,
-        assist: Sequence[Vec] = BASE_ASSIST,
+        assist: Sequence[Vec] | None = None,
     ) -> tuple[Vec, Vec, Vec] | None:
         """Joint angles at ``point + approach``, the orientation and a base adjustment for a
         straight motion from there to ``point``.
@@ -67,9 +69,11 @@ class Arm:
         Of the candidate ``rotations``, prefer the one whose hand touches nothing outside
         ``ignore`` at both ends, then the one farthest from the joint limits. Where none
         reaches from the UAV's pose (a point at the inner edge of the workspace), the UAV may
-        move by one of ``assist`` (tried in order).
+        move by one of ``assist`` (tried in order; default :meth:`assists`).
         """
         data = self.loop.data
+        if assist is None:
+            assist = self.assists(point)
         best: tuple[Vec, Vec, Vec] | None = None
         for shift in assist:
             best, best_key = None, (math.inf, -math.inf)
@@ -89,6 +93,18 @@ class Arm:
             if best is not None and best_key[0] == 0:
                 return best
         return best
+
+    def assists(self, point: Vec) -> list[Vec]:
+        """UAV moves that may bring ``point`` into the arm's top-down workspace: none, small
+        descents, then backing away horizontally where the point lies inside its inner edge."""
+        base = self.loop.data.body(c.ARM_BASE_BODY).xpos
+        away = base[:2] - np.asarray(point)[:2]
+        dist = float(np.linalg.norm(away))
+        shifts = list(BASE_ASSIST)
+        if 1e-6 < dist < INNER_EDGE:
+            back = np.append(away / dist * (BACK_OFF_TO - dist), 0.0)
+            shifts += [back, back + BASE_ASSIST[1]]
+        return shifts
 
     def shift_base(self, delta: Vec) -> None:
         """Fly the UAV's setpoint by ``delta`` (m, world) and let it settle."""

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.layout import CONTAINER_FLOOR
 from vlm_bench.executor.arm import Arm
+from vlm_bench.executor.grasp_points import grasp_points
 from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
@@ -25,6 +26,7 @@ from vlm_bench.sim.objects.bounds import object_bounds, subtree_geoms
 from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
+from vlm_bench.types.world import ObjectKind
 
 Vec = NDArray[np.float64]
 PRE_GRASP = 0.12  # m above the grasp point
@@ -55,6 +57,34 @@ class Grasper:
         rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(4)]
         return self.arm.plan(point, approach, rotations, ignore, gripper, seed)
 
+    def _plan_grasp(self, obj: str, kind: ObjectKind) -> tuple[Vec, Vec, Vec, Vec] | None:
+        """Pre-grasp posture, hand orientation, UAV move and grasp point: the first of the
+        object's grasp points the hand reaches touching nothing else, else the best one."""
+        loop = self.loop
+        lo, hi = object_bounds(loop.model, loop.data, obj, solid_only=True)
+        body = loop.data.body(obj)
+        rot = body.xmat.reshape(3, 3)
+        yaw = math.atan2(rot[1, 0], rot[0, 0])
+        ignore = self.arm.body_geoms(obj)
+        fallback = None
+        for cand in grasp_points(kind, np.array(body.xpos), yaw, lo, hi):
+            approach = np.array([0.0, 0.0, PRE_GRASP])
+            sol = self.arm.plan(
+                cand.point,
+                approach,
+                cand.rotations,
+                ignore,
+                c.GRIPPER_OPEN,
+                np.asarray(TOP_DOWN_SEED),
+            )
+            if sol is None:
+                continue
+            q_pre, hand, shift = sol
+            if not self.arm.ik.collisions(loop.data, q_pre, ignore, c.GRIPPER_OPEN, shift):
+                return q_pre, hand, shift, cand.point
+            fallback = fallback or (q_pre, hand, shift, cand.point)
+        return fallback
+
     def touching_fingers(self, obj: str) -> bool:
         """Whether both fingers touch ``obj``."""
         return self.arm.touching_fingers(obj)
@@ -69,20 +99,11 @@ class Grasper:
             return f"already holding {loop.held}"
         if not object_kind(kinds[obj]).graspable:
             return f"{obj} cannot be grasped"
-        lo, hi = object_bounds(loop.model, loop.data, obj, solid_only=True)
-        grasp = np.array(
-            [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, max(lo[2] + 0.015, hi[2] - 0.03)]
-        )
-        rot = loop.data.body(obj).xmat.reshape(3, 3)
-        yaw = math.atan2(rot[1, 0], rot[0, 0])
-        above = grasp + np.array([0.0, 0.0, PRE_GRASP])
-        ignore = set(subtree_geoms(loop.model, loop.model.body(obj).id))
-        sol = self._plan_top_down(
-            grasp, above - grasp, yaw, ignore, c.GRIPPER_OPEN, np.asarray(TOP_DOWN_SEED)
-        )
+        sol = self._plan_grasp(obj, object_kind(kinds[obj]))
         if sol is None:
             return f"{obj} is out of reach"
-        q_pre, rot, shift = sol
+        q_pre, rot, shift, grasp = sol
+        above = grasp + np.array([0.0, 0.0, PRE_GRASP])
         arm = self.arm
         arm.shift_base(shift)
         joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)

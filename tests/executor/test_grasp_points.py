@@ -1,0 +1,60 @@
+"""Grasp points per object kind: fingers close across the narrow side, mugs around the cup,
+bowls on the rim."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from vlm_bench.catalog.world import object_kind
+from vlm_bench.executor.grasp_points import MAX_ACROSS, RIM_INSET, grasp_points
+
+
+def _closing_axes(rotations: tuple[np.ndarray, ...]) -> list[np.ndarray]:
+    return [r[:, 1] for r in rotations]  # the fingers close along the hand's y axis
+
+
+def _box(size: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    half = np.array([size[0] / 2, size[1] / 2, 0.0])
+    return -half, half + np.array([0.0, 0.0, size[2]])
+
+
+@pytest.mark.parametrize("yaw_deg", [0.0, 30.0, 90.0])
+def test_long_objects_are_held_across_their_width(yaw_deg: float) -> None:
+    kind = object_kind("banana")  # 0.19 x 0.06 m
+    yaw = math.radians(yaw_deg)
+    lo, hi = _box(kind.size)
+    (cand,) = grasp_points(kind, np.zeros(3), yaw, lo, hi)
+    width_axis = np.array([-math.sin(yaw), math.cos(yaw), 0.0])
+    for axis in _closing_axes(cand.rotations):
+        assert abs(float(axis @ width_axis)) == pytest.approx(1.0)
+    assert len(cand.rotations) == 2
+
+
+def test_small_objects_allow_four_headings() -> None:
+    kind = object_kind("cube")
+    assert max(kind.size[:2]) <= MAX_ACROSS
+    (cand,) = grasp_points(kind, np.zeros(3), 0.0, *_box(kind.size))
+    assert len(cand.rotations) == 4
+
+
+def test_mug_is_held_around_the_cup_with_the_handle_beside_the_fingers() -> None:
+    kind = object_kind("mug")  # 0.11 x 0.08: the handle fills the last 3 cm of +x
+    (cand,) = grasp_points(kind, np.array([1.0, 2.0, 0.75]), 0.0, *_box(kind.size))
+    assert cand.point[:2] == pytest.approx([1.0 - 0.015, 2.0])
+    for axis in _closing_axes(cand.rotations):
+        assert abs(float(axis[1])) == pytest.approx(1.0)  # across the cup, not at the handle
+
+
+def test_bowl_is_held_by_its_rim_closing_radially() -> None:
+    kind = object_kind("bowl")  # 0.16 m across
+    lo, hi = _box(kind.size)
+    cands = grasp_points(kind, np.zeros(3), 0.0, lo, hi)
+    assert len(cands) == 8
+    for cand in cands:
+        radial = cand.point[:2] / np.linalg.norm(cand.point[:2])
+        assert np.linalg.norm(cand.point[:2]) == pytest.approx(0.08 - RIM_INSET)
+        for axis in _closing_axes(cand.rotations):
+            assert abs(float(axis[:2] @ radial)) == pytest.approx(1.0)
