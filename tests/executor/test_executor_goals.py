@@ -104,3 +104,12 @@ def test_unknown_ids_are_false(pick_place: Scene) -> None:
         False,
         False,
     )
+
+
+def test_on_a_stove_is_measured_at_the_cooktop_not_at_its_knob() -> None:
+    scene = build_scene(make_episode("hybrid_interaction_stove", 0))
+    stove = scene.data.body("stove").xpos.copy()
+    _place(scene, "white_bowl", (stove[0] - 0.1, stove[1] + 0.15, stove[2] + 0.795))
+    _settle(scene)
+    goal = (_goal("on", "white_bowl", "stove"),)
+    assert check_goals(scene.episode, scene.model, scene.data, goal) == (True,)

@@ -19,7 +19,6 @@ KNOWN_FAILURES = {  # task -> reason observed at seed 0 (benchmarks/oracle_sweep
     "cross_color_sorting": "step 1: grasp of black_mug failed",
     "drawer_interaction": "step 8: top_drawer is out of reach",
     "function_detergent": "step 3: cleanser slipped from the gripper",
-    "hybrid_interaction_stove": "goal not met: on(white_bowl, stove)",
     "material_tin": "step 1: grasp of meat_can failed",
     "negation_constraint": "step 1: grasp of white_box failed",
     "store_and_close": "goal not met: inside(rubiks_cube, top_drawer)",

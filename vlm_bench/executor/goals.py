@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.sim.constants import part_joint
-from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.sim.objects.bounds import geom_bounds, object_bounds, subtree_geoms
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.task import Goal
 
@@ -56,6 +56,20 @@ class GoalState:
         lo, hi = object_bounds(self.model, self.data, name, solid_only=True)
         return Box(centre=(lo + hi) / 2, bottom=float(lo[2]), top=float(hi[2]))
 
+    def surface(self, name: str) -> float:
+        """Height of what rests on ``name``: its top, not counting its parts (a stove's knob
+        stands 5 cm above the cooktop)."""
+        obj = self.objects.get(name)
+        if obj is None or not object_kind(obj.kind).parts:
+            return self.box(name).top
+        body = self.model.body(name).id
+        tops = [
+            geom_bounds(self.model, self.data, g)[1][2]
+            for g in subtree_geoms(self.model, body, solid_only=True)
+            if self.model.geom_bodyid[g] == body
+        ]
+        return float(max(tops))
+
     def in_footprint(self, point: Vec, target: str, margin: float = 0.0) -> bool:
         """Whether ``point`` lies horizontally within ``target``'s footprint (grown by margin)."""
         if target in self.parts:
@@ -88,10 +102,10 @@ def is_inside(state: GoalState, obj: str, container: str) -> bool:
 
 def is_on(state: GoalState, obj: str, support: str) -> bool:
     """Object resting on top of ``support``: centre over it, bottom at its top (± a gap)."""
-    o, s = state.box(obj), state.box(support)
+    o, top = state.box(obj), state.surface(support)
     if not state.in_footprint(o.centre, support):
         return False
-    return s.top - ON_GAP_BELOW <= o.bottom <= s.top + ON_GAP_ABOVE
+    return top - ON_GAP_BELOW <= o.bottom <= top + ON_GAP_ABOVE
 
 
 def is_upright(state: GoalState, obj: str) -> bool:
