@@ -4,7 +4,7 @@ moves, finger-contact tests and small UAV base adjustments, all on one simulatio
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -86,7 +86,7 @@ class Arm:
                     continue
                 hits = len(self.ik.collisions(data, q_end, ignore, gripper, shift))
                 hits += len(self.ik.collisions(data, q_start, ignore, gripper, shift))
-                margin = float(np.min(np.minimum(q_end - self.ik.lo, self.ik.hi - q_end)))
+                margin = self.ik.limit_margin(q_end)
                 key = (float(hits), -margin)
                 if key < best_key:
                     best, best_key = (q_start, rot, shift), key
@@ -94,15 +94,22 @@ class Arm:
                 return best
         return best
 
-    def assists(self, point: Vec) -> list[Vec]:
-        """UAV moves that may bring ``point`` into the arm's top-down workspace: none, small
-        descents, then backing away horizontally where the point lies inside its inner edge."""
+    def back_off(self, point: Vec, within: float, to: float) -> Vec | None:
+        """The horizontal UAV move that puts ``point`` ``to`` m (horizontally) from the arm
+        base, when it now lies closer than ``within`` (and not right below it)."""
         base = self.loop.data.body(c.ARM_BASE_BODY).xpos
         away = base[:2] - np.asarray(point)[:2]
         dist = float(np.linalg.norm(away))
+        if not 1e-6 < dist < within:
+            return None
+        return np.append(away / dist * (to - dist), 0.0)
+
+    def assists(self, point: Vec) -> list[Vec]:
+        """UAV moves that may bring ``point`` into the arm's top-down workspace: none, small
+        descents, then backing away horizontally where the point lies inside its inner edge."""
         shifts = list(BASE_ASSIST)
-        if 1e-6 < dist < INNER_EDGE:
-            back = np.append(away / dist * (BACK_OFF_TO - dist), 0.0)
+        back = self.back_off(point, INNER_EDGE, BACK_OFF_TO)
+        if back is not None:
             shifts += [back, back + BASE_ASSIST[1]]
         return shifts
 
@@ -124,11 +131,18 @@ class Arm:
     def line(self, start: Vec, end: Vec, rotation: Vec, seconds: float, gripper: float) -> bool:
         """Move the TCP along the straight line ``start`` → ``end`` (minimum-jerk timing)
         keeping ``rotation``; ``False`` where IK loses the line."""
-        loop = self.loop
         n = max(2, round(seconds / c.CONTROL_DT))
+        return self.follow(
+            ((start + (end - start) * min_jerk(i / n), rotation) for i in range(1, n + 1)),
+            gripper,
+        )
+
+    def follow(self, poses: Iterable[tuple[Vec, Vec]], gripper: float) -> bool:
+        """Servo the TCP through ``poses`` (position, orientation), one per control step,
+        each solved from the last; ``False`` (stopping there) where IK loses the path."""
+        loop = self.loop
         q = arm_qpos(loop.model, loop.data)
-        for i in range(1, n + 1):
-            point = start + (end - start) * min_jerk(i / n)
+        for point, rotation in poses:
             q, res = self.ik.solve(loop.data, point, rotation, q, iterations=60)
             if res > 3 * IK_OK:
                 return False

@@ -19,14 +19,13 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.executor.arm import IK_OK, Arm
+from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, Arm
 from vlm_bench.executor.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
 from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.constants import part_handle_site, part_joint
-from vlm_bench.sim.robot import arm_qpos, set_arm_targets
 from vlm_bench.types.episode import Episode, PartRef
 from vlm_bench.types.plan import ArmStep
 
@@ -219,7 +218,7 @@ class Articulator:
         ignore = arm.body_geoms(part.id)
         turn = math.radians(TURN_DEG)
         best: tuple[float, tuple[Vec, float, Vec]] | None = None
-        for shift in (np.zeros(3), np.array([0.0, 0.0, -0.06]), np.array([0.0, 0.0, -0.12])):
+        for shift in BASE_ASSIST:
             for k in range(8):
                 heading = -math.pi + k * math.pi / 4
                 rot0, rot1 = top_down_rotation(heading), top_down_rotation(heading + turn)
@@ -233,7 +232,7 @@ class Articulator:
                 q_pre, res = arm.ik.solve(data, above, rot0, q0, base=shift)
                 if res > IK_OK:
                     continue
-                margin = float(np.min(np.minimum(q1 - arm.ik.lo, arm.ik.hi - q1)))
+                margin = arm.ik.limit_margin(q1)
                 if best is None or margin > best[0]:
                     best = (margin, (q_pre, heading, shift))
             if best is not None:
@@ -242,17 +241,10 @@ class Articulator:
 
     def _turn(self, grip: Vec, heading: float, turn: float) -> None:
         """Turn the closed hand about the vertical through ``grip`` by ``turn`` rad."""
-        loop, arm = self.loop, self.arm
         n = max(2, round(TURN_S / c.CONTROL_DT))
-        q = arm_qpos(loop.model, loop.data)
-        for i in range(1, n + 1):
-            rot = top_down_rotation(heading + turn * i / n)
-            q, res = arm.ik.solve(loop.data, grip, rot, q, iterations=60)
-            if res > 3 * IK_OK:
-                return
-            set_arm_targets(loop.model, loop.data, q, c.GRIPPER_CLOSED)
-            loop.control_step()
-        loop.hold(0.3)
+        poses = ((grip, top_down_rotation(heading + turn * i / n)) for i in range(1, n + 1))
+        if self.arm.follow(poses, c.GRIPPER_CLOSED):
+            self.loop.hold(0.3)
 
 
 def articulation_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:

@@ -22,7 +22,7 @@ from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
 from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
-from vlm_bench.sim.objects.bounds import object_bounds, subtree_geoms
+from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
@@ -142,7 +142,7 @@ class Grasper:
         lift_to = np.array([tcp[0], tcp[1], max(tcp[2], above[2])])
         if not arm.line(tcp, lift_to, top_down_rotation(heading), 0.8, c.GRIPPER_CLOSED):
             return "cannot lift the held object"
-        ignore = set(subtree_geoms(loop.model, loop.model.body(held).id))
+        ignore = arm.body_geoms(held)
         sol = self._plan_top_down(
             release,
             above - release,

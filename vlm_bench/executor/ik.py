@@ -152,6 +152,10 @@ class ArmIk:
             residual = float(np.linalg.norm(err[:3])) + float(np.linalg.norm(err[3:]))
         return q, residual
 
+    def limit_margin(self, q: Vec) -> float:
+        """Smallest distance of ``q`` from the (inset) joint limits (rad)."""
+        return float(np.min(np.minimum(q - self.lo, self.hi - q)))
+
     def collisions(
         self,
         data: mujoco.MjData,

@@ -151,14 +151,9 @@ class Pusher:
         """UAV moves to try: none, then backing away from the push's midpoint until it lies
         ``WORK_RADIUS`` from the arm base, or back along the push by up to ``MAX_BACK``; then
         the same 6 cm lower."""
-        base = self.loop.data.body(c.ARM_BASE_BODY).xpos
-        mid = (start + end) / 2
-        away = base[:2] - mid[:2]
-        dist = float(np.linalg.norm(away))
+        away = self.arm.back_off((start + end) / 2, WORK_RADIUS, WORK_RADIUS)
         back = -(end - start)[:2] / max(float(np.linalg.norm(end - start)), 1e-9)
-        shifts = [np.zeros(3)]
-        if 1e-6 < dist < WORK_RADIUS:
-            shifts.append(np.append(away / dist * (WORK_RADIUS - dist), 0.0))
+        shifts = [np.zeros(3)] if away is None else [np.zeros(3), away]
         shifts += [np.append(back * d, 0.0) for d in (0.1, MAX_BACK)]
         return shifts + [s + np.array([0.0, 0.0, -0.06]) for s in shifts]
 
