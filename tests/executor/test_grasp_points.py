@@ -1,5 +1,5 @@
-"""Grasp points per object kind: fingers close across the narrow side, mugs around the cup,
-bowls on the rim."""
+"""Grasp points per object kind: fingers close across the narrow side; mugs and bowls are held
+by the rim."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from vlm_bench.catalog.world import object_kind
-from vlm_bench.executor.grasp_points import MAX_ACROSS, RIM_INSET, grasp_points
+from vlm_bench.executor.grasp_points import MAX_ACROSS, MUG_RIM_INSET, RIM_INSET, grasp_points
 
 
 def _closing_axes(rotations: tuple[np.ndarray, ...]) -> list[np.ndarray]:
@@ -40,12 +40,18 @@ def test_small_objects_allow_four_headings() -> None:
     assert len(cand.rotations) == 4
 
 
-def test_mug_is_held_around_the_cup_with_the_handle_beside_the_fingers() -> None:
+def test_mug_is_held_by_the_rim_away_from_its_handle() -> None:
     kind = object_kind("mug")  # 0.11 x 0.08: the handle fills the last 3 cm of +x
-    (cand,) = grasp_points(kind, np.array([1.0, 2.0, 0.75]), 0.0, *_box(kind.size))
-    assert cand.point[:2] == pytest.approx([1.0 - 0.015, 2.0])
-    for axis in _closing_axes(cand.rotations):
-        assert abs(float(axis[1])) == pytest.approx(1.0)  # across the cup, not at the handle
+    cands = grasp_points(kind, np.array([1.0, 2.0, 0.75]), 0.0, *_box(kind.size))
+    axis = np.array([1.0 - 0.015, 2.0])  # the cup's axis
+    assert len(cands) == 5
+    assert cands[0].point[:2] == pytest.approx([axis[0] - 0.0335, 2.0])  # opposite the handle
+    for cand in cands:
+        offset = cand.point[:2] - axis
+        assert np.linalg.norm(offset) == pytest.approx(0.04 - MUG_RIM_INSET)  # mid-wall
+        assert offset[0] <= 1e-9  # never on the handle's side
+        for closing in _closing_axes(cand.rotations):
+            assert abs(float(closing[:2] @ offset)) / np.linalg.norm(offset) == pytest.approx(1.0)
 
 
 def test_bowl_is_held_by_its_rim_closing_radially() -> None:

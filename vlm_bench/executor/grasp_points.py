@@ -1,15 +1,17 @@
 """Where and how the top-down gripper holds each kind of object.
 
 The Panda hand opens 8 cm, so its fingers must close across an object's narrow side: a banana
-or a chocolate box across its width, a box or a can across its 6 cm side. A mug is held around
-its cup (the handle, along the mug's +x, stays beside the fingers); a bowl, 16 cm across, by its
-rim, one finger inside and one outside the wall. The hand's x axis is its heading; the fingers
+or a chocolate box across its width, a box or a can across its 6 cm side. A bowl, 16 cm across,
+and a mug, whose 7.2 cm cup leaves the open fingers 4 mm each side, are held by the rim, one finger
+inside and one outside the wall, closing radially; a mug's rim away from its handle (+x). A
+teddy bear is held by its head, across the ears. The hand's x axis is its heading; the fingers
 close along its y axis.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +25,9 @@ MAX_ACROSS = 0.075  # m: widest span the open fingers close on with some clearan
 RIM_INSET = 0.007  # m from a bowl's outer radius to the middle of its 1 cm wall
 BELOW_TOP = 0.03  # m: fingers close this far below the top (at least 1.5 cm above the bottom)
 RIM_BELOW_TOP = 0.02  # m: for rim grasps
+TEDDY_HEAD = (-0.008, 0.125)  # m: the head's centre (x, height) in a 0.17 m bear's frame
+MUG_RIM_INSET = 0.0065  # m from the foot's radius to the middle of the cup's wall
+MUG_RIM_ANGLES = (180.0, 135.0, 225.0, 90.0, 270.0)  # deg from the handle, best first
 
 
 @dataclass(frozen=True)
@@ -38,27 +43,41 @@ def _headings(base: float, n: int) -> tuple[Vec, ...]:
     return tuple(top_down_rotation(base + k * 2 * math.pi / n) for k in range(n))
 
 
+def _rim(
+    axis: Vec, radius: float, top: float, yaw: float, angles_deg: Iterable[float]
+) -> list[GraspPoint]:
+    """Rim grasps of a round vessel about the vertical through ``axis`` (x, y), at
+    ``angles_deg`` from the object's +x: fingers astride the wall, closing radially."""
+    out = []
+    for deg in angles_deg:
+        a = yaw + math.radians(deg)
+        point = np.array([axis[0] + radius * math.cos(a), axis[1] + radius * math.sin(a), 0.0])
+        point[2] = top - RIM_BELOW_TOP
+        out.append(GraspPoint(point, _headings(a + math.pi / 2, 2)))  # the hand's y radial
+    return out
+
+
 def grasp_points(kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec) -> list[GraspPoint]:
     """Candidate grasps of an object of ``kind`` whose body is at ``pos`` with heading ``yaw``
     (rad) and whose solid geoms span [lo, hi] now, best first."""
-    sx, sy, _ = kind.size
+    sx, sy, sz = kind.size
     cy, sn = math.cos(yaw), math.sin(yaw)
     height = max(float(lo[2]) + 0.015, float(hi[2]) - BELOW_TOP)
     centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, height])
     if kind.name == "bowl":
         radius = min(sx, sy) / 2 - RIM_INSET
-        z = float(hi[2]) - RIM_BELOW_TOP
-        out = []
-        for k in range(8):
-            a = yaw + k * math.pi / 4
-            point = np.array([pos[0] + radius * math.cos(a), pos[1] + radius * math.sin(a), z])
-            # Fingers close radially: the hand's y axis along the radius.
-            out.append(GraspPoint(point, _headings(a + math.pi / 2, 2)))
-        return out
+        return _rim(pos[:2], radius, float(hi[2]), yaw, (k * 45.0 for k in range(8)))
     if kind.name == "mug":
         axis_x = -sx / 2 + sy / 2  # the cup's axis in the mug's frame (the handle fills +x)
-        point = np.array([pos[0] + axis_x * cy, pos[1] + axis_x * sn, height])
-        return [GraspPoint(point, _headings(yaw, 2))]  # fingers along the mug's y
+        axis = pos[:2] + axis_x * np.array([cy, sn])
+        return _rim(axis, min(sx, sy) / 2 - MUG_RIM_INSET, float(hi[2]), yaw, MUG_RIM_ANGLES)
+    if kind.name == "teddy_bear":
+        # By the head, across its ears, at the head's equator: squeezed above it, a sphere
+        # pops out of the fingers (the bear's layout scales with its height, see sim.objects).
+        k = sz / 0.17
+        head = np.array([pos[0] + TEDDY_HEAD[0] * k * cy, pos[1] + TEDDY_HEAD[0] * k * sn, 0.0])
+        head[2] = float(lo[2]) + TEDDY_HEAD[1] * k
+        return [GraspPoint(head, _headings(yaw, 2))]
     if max(sx, sy) <= MAX_ACROSS:
         return [GraspPoint(centre, _headings(yaw, 4))]
     # Close across the narrower side: the hand's x axis along the longer one.

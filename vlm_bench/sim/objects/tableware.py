@@ -23,6 +23,7 @@ from vlm_bench.types.episode import EpisodeObject
 from vlm_bench.types.world import RGBA, ObjectKind
 
 WHITE: RGBA = (1.0, 1.0, 1.0, 1.0)
+MUG_WALL = 0.005  # m
 
 
 def tilted_ring(
@@ -33,8 +34,10 @@ def tilted_ring(
     thickness: float,
     count: int,
     look: Look,
-) -> None:
-    """A surface of revolution's band from ``inner`` (r, z) to ``outer`` (r, z), in box segments.
+    axis: tuple[float, float] = (0.0, 0.0),
+) -> list[mujoco.MjsGeom]:
+    """A surface of revolution's band from ``inner`` (r, z) to ``outer`` (r, z) about the
+    vertical through ``axis`` (x, y), in box segments.
 
     The segments' mid-surface follows the band; neighbours overlap so nothing falls through.
     """
@@ -43,12 +46,16 @@ def tilted_ring(
     half_len = math.hypot(r1 - r0, z1 - z0) / 2
     half_w = max(r0, r1) * math.tan(math.pi / count) + 0.001
     rm, zm = (r0 + r1) / 2, (z0 + z1) / 2
+    out = []
     for i in range(count):
         az = 360.0 * i / count
         c, s = math.cos(math.radians(az)), math.sin(math.radians(az))
         quat = quat_mul(yaw(az), axis_angle((0.0, 1.0, 0.0), tilt))
         half = (thickness / 2, half_w, half_len)
-        kit.box(f"{piece}{i}", half, (rm * c, rm * s, zm), look, quat)
+        out.append(
+            kit.box(f"{piece}{i}", half, (axis[0] + rm * c, axis[1] + rm * s, zm), look, quat)
+        )
+    return out
 
 
 @OBJECT_BUILDERS.register("plate")
@@ -113,16 +120,25 @@ def build_mug(
     kind: ObjectKind,
     rgba: RGBA,
 ) -> mujoco.MjsBody:
-    """A cylindrical mug with a handle toward +x and a dark opening; grasped around the body."""
+    """A cylindrical mug with a handle toward +x and a dark opening.
+
+    The cup is hollow where it collides (a 5 mm wall of segments and the foot as its floor),
+    so a gripper can hold it by the rim, one finger inside; it is drawn as a plain cylinder.
+    """
     body = object_body(parent, obj, kind)
     kit = Kit(spec, body, obj.id, GRIP)
     lx, ly, h = kind.size
     foot_r = ly / 2
-    body_r = min(foot_r - 0.004, 0.036)  # the grasp: at most 7.2 cm across
+    body_r = min(foot_r - 0.004, 0.036)
     c = -lx / 2 + foot_r  # cup axis; the handle fills the rest of the length
     glaze = kit.look(rgba)
     kit.cylinder("foot", foot_r, 0.003, (c, 0.0, 0.003), glaze)
-    kit.cylinder("body", body_r, (h - 0.004) / 2, (c, 0.0, 0.004 + (h - 0.004) / 2), glaze)
+    kit.cylinder(
+        "body", body_r, (h - 0.004) / 2, (c, 0.0, 0.004 + (h - 0.004) / 2), glaze, solid=False
+    )
+    wall = (body_r - MUG_WALL / 2, 0.006), (body_r - MUG_WALL / 2, h)
+    for seg in tilted_ring(kit, "wall", *wall, MUG_WALL, 16, glaze, axis=(c, 0.0)):
+        kit.hide(seg)
     inside = shade(rgba, 0.35)
     kit.cylinder("opening", body_r - 0.005, 0.0003, (c, 0.0, h), inside, solid=False)
     r, x = 0.0065, lx / 2 - 0.0065
