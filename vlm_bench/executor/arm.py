@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,8 +22,25 @@ Vec = NDArray[np.float64]
 IK_OK = 0.02  # residual (m + rad) accepted
 BASE_ASSIST = tuple(np.array([0.0, 0.0, dz]) for dz in (0.0, -0.06, -0.12))
 """UAV moves (m) tried, in order, when the arm alone cannot reach: descents."""
-INNER_EDGE = 0.30  # m, horizontal: closer to the arm base, a top-down reach folds the elbow
-BACK_OFF_TO = 0.36  # m, horizontal: where backing away puts such a point
+MAX_ASSIST = 0.35  # m, horizontal: a skill adjusts the UAV, it does not fly to the object
+PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
+CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
+"""UAV climbs (m) tried after every level move."""
+WORK_RADII = (0.36, 0.46, 0.56)
+"""Horizontal distances (m) from the arm base where top-down reaches keep far from the joint
+limits, for the points the stand-off leaves 0.45-0.75 m below the base (from a reach scan)."""
+
+
+class Reach(NamedTuple):
+    """A planned straight TCP motion: joint angles at its start, the hand's orientation, the
+    UAV move (m) to make first, joint angles at its end, and how many contacts the arm would
+    make on the way (0: a clear path)."""
+
+    q_start: Vec
+    rotation: Vec
+    shift: Vec
+    q_end: Vec
+    hits: int
 
 
 class Arm:
@@ -62,41 +80,65 @@ class Arm:
         gripper: float,
         seed: Vec,
         assist: Sequence[Vec] | None = None,
-    ) -> tuple[Vec, Vec, Vec] | None:
+    ) -> Reach | None:
         """Joint angles at ``point + approach``, the orientation and a base adjustment for a
         straight motion from there to ``point``.
 
-        Of the candidate ``rotations``, prefer the one whose hand touches nothing outside
-        ``ignore`` at both ends, then the one farthest from the joint limits. Where none
+        IK starts from ``seed``, the arm's posture now and the known postures: a hanging arm
+        reaches most points on several branches (elbow out over a table, or folded up), and the
+        first to converge is not always clear of the table. Of the candidate ``rotations`` and
+        branches, prefer one whose arm touches nothing outside ``ignore`` at both ends, then the
+        one farthest from the joint limits. The joint-space moves from the posture now to the
+        start of the line and from there to its end are checked along the way: neither may
+        sweep the arm through the scene. Where none
         reaches from the UAV's pose (a point at the inner edge of the workspace), the UAV may
         move by one of ``assist`` (tried in order; default :meth:`assists`).
         """
         data = self.loop.data
         if assist is None:
             assist = self.assists(point)
-        best: tuple[Vec, Vec, Vec] | None = None
+        now = arm_qpos(self.loop.model, data)
+        starts = [np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)]
+        best: Reach | None = None
+        best_key = (math.inf, -math.inf)
         for shift in assist:
-            best, best_key = None, (math.inf, -math.inf)
             for rot in rotations:
-                q_end, res = self.solve_any(point, rot, seed, shift)
-                if res > IK_OK:
-                    continue
-                q_start, res = self.ik.solve(data, point + approach, rot, q_end, base=shift)
-                if res > IK_OK:
-                    continue
-                hits = len(self.ik.collisions(data, q_end, ignore, gripper, shift))
-                hits += len(self.ik.collisions(data, q_start, ignore, gripper, shift))
-                margin = self.ik.limit_margin(q_end)
-                key = (float(hits), -margin)
-                if key < best_key:
-                    best, best_key = (q_start, rot, shift), key
+                for start in starts:
+                    q_end, res = self.ik.solve(data, point, rot, start, base=shift)
+                    if res > IK_OK:
+                        continue
+                    q_start, res = self.ik.solve(data, point + approach, rot, q_end, base=shift)
+                    if res > IK_OK:
+                        continue
+                    hits = self.path_hits(now, q_start, ignore, gripper, shift)
+                    hits += self.path_hits(q_start, q_end, ignore, gripper, shift)
+                    key = (float(hits), -self.ik.limit_margin(q_end))
+                    if key < best_key:
+                        best, best_key = Reach(q_start, rot, shift, q_end, hits), key
+                    if hits == 0:
+                        break  # other starts would find this branch or one as good
             if best is not None and best_key[0] == 0:
                 return best
         return best
 
+    def path_hits(self, q_from: Vec, q_to: Vec, ignore: set[int], gripper: float, base: Vec) -> int:
+        """Contacts outside ``ignore`` along the joint-space move ``q_from`` → ``q_to``
+        (sampled every :data:`PATH_STEP` rad of the widest joint swing, the end included),
+        with the UAV moved by ``base``."""
+        n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
+        return sum(
+            len(
+                self.ik.collisions(
+                    self.loop.data, q_from + (q_to - q_from) * k / n, ignore, gripper, base
+                )
+            )
+            for k in range(1, n + 1)
+        )
+
     def back_off(self, point: Vec, within: float, to: float) -> Vec | None:
         """The horizontal UAV move that puts ``point`` ``to`` m (horizontally) from the arm
-        base, when it now lies closer than ``within`` (and not right below it)."""
+        base, when it now lies closer than ``within`` (and not right below it): away from the
+        point, or towards it where it lies farther than ``to``."""
         base = self.loop.data.body(c.ARM_BASE_BODY).xpos
         away = base[:2] - np.asarray(point)[:2]
         dist = float(np.linalg.norm(away))
@@ -105,13 +147,22 @@ class Arm:
         return np.append(away / dist * (to - dist), 0.0)
 
     def assists(self, point: Vec) -> list[Vec]:
-        """UAV moves that may bring ``point`` into the arm's top-down workspace: none, small
-        descents, then backing away horizontally where the point lies inside its inner edge."""
-        shifts = list(BASE_ASSIST)
-        back = self.back_off(point, INNER_EDGE, BACK_OFF_TO)
-        if back is not None:
-            shifts += [back, back + BASE_ASSIST[1]]
-        return shifts
+        """UAV moves that may bring ``point`` into the arm's top-down workspace, smallest
+        first: none and small descents; horizontal moves putting the point at one of
+        :data:`WORK_RADII` from the arm base (with and without a descent); last, climbs, so
+        the arm reaches down into a deep opening (an open drawer under its tall front) from
+        above rather than across its rim. Close under the base a top-down reach folds the
+        elbow onto its limit; far out the arm stretches."""
+        radial = []
+        for radius in WORK_RADII:
+            move = self.back_off(point, math.inf, radius)
+            if move is not None and 0.04 < np.linalg.norm(move) <= MAX_ASSIST:
+                radial.append(move)
+        radial.sort(key=lambda m: float(np.linalg.norm(m)))
+        level = [move + dz for move in radial for dz in BASE_ASSIST[:2]]
+        climbs = [np.zeros(3) + lift for lift in CLIMBS]
+        climbs += [move + lift for lift in CLIMBS for move in radial]
+        return [*BASE_ASSIST, *level, *climbs]
 
     def shift_base(self, delta: Vec) -> None:
         """Fly the UAV's setpoint by ``delta`` (m, world) and let it settle."""
@@ -128,22 +179,42 @@ class Arm:
         target = np.array(self.loop.controller.setpoint) + np.asarray(delta)
         fly_to(self.loop, target, slow)
 
-    def line(self, start: Vec, end: Vec, rotation: Vec, seconds: float, gripper: float) -> bool:
+    def line(
+        self,
+        start: Vec,
+        end: Vec,
+        rotation: Vec,
+        seconds: float,
+        gripper: float,
+        q_end: Vec | None = None,
+    ) -> bool:
         """Move the TCP along the straight line ``start`` → ``end`` (minimum-jerk timing)
-        keeping ``rotation``; ``False`` where IK loses the line."""
+        keeping ``rotation``; ``False`` where IK loses the line. With ``q_end`` (the planned
+        joint angles at ``end``), IK's posture follows the joint-space blend towards them, so
+        the arm stays on the branch the plan checked for collisions."""
         n = max(2, round(seconds / c.CONTROL_DT))
-        return self.follow(
-            ((start + (end - start) * min_jerk(i / n), rotation) for i in range(1, n + 1)),
-            gripper,
-        )
+        q0 = arm_qpos(self.loop.model, self.loop.data)
+        steps = [min_jerk(i / n) for i in range(1, n + 1)]
+        poses = ((start + (end - start) * s, rotation) for s in steps)
+        if q_end is None:
+            return self.follow(poses, gripper)
+        return self.follow(poses, gripper, (q0 + (q_end - q0) * s for s in steps))
 
-    def follow(self, poses: Iterable[tuple[Vec, Vec]], gripper: float) -> bool:
+    def follow(
+        self,
+        poses: Iterable[tuple[Vec, Vec]],
+        gripper: float,
+        postures: Iterable[Vec] | None = None,
+    ) -> bool:
         """Servo the TCP through ``poses`` (position, orientation), one per control step,
-        each solved from the last; ``False`` (stopping there) where IK loses the path."""
+        each solved from the last (and pulled towards ``postures``, one per pose, if given);
+        ``False`` (stopping there) where IK loses the path."""
         loop = self.loop
         q = arm_qpos(loop.model, loop.data)
+        rests = iter(postures) if postures is not None else None
         for point, rotation in poses:
-            q, res = self.ik.solve(loop.data, point, rotation, q, iterations=60)
+            rest = next(rests) if rests is not None else None
+            q, res = self.ik.solve(loop.data, point, rotation, q, iterations=60, posture=rest)
             if res > 3 * IK_OK:
                 return False
             set_arm_targets(loop.model, loop.data, q, gripper)

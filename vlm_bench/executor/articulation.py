@@ -85,34 +85,33 @@ class Articulator:
         arm, loop = self.arm, self.loop
         point, axis = self._handle(part)
         rotations = [frontal_rotation(axis, up) for up in (True, False)]
-        ignore = arm.body_geoms(part.id)
+        drawer = arm.body_geoms(part.id)
+        # Only the bar and its posts may be touched: the way in must clear the drawer's front.
+        ignore = {g for g in drawer if "handle" in (loop.model.geom(g).name or "")}
         assists = [np.append(axis[:2] * b, dz) for b in BACK_ASSIST for dz in (0.0, -0.1, 0.1)]
-        sol = None
-        for shift in assists:
-            sol = arm.plan(
-                point,
-                axis * PRE_HANDLE,
-                rotations,
-                ignore,
-                c.GRIPPER_OPEN,
-                np.asarray(TOP_DOWN_SEED),
-                assist=(shift,),
-            )
-            if sol is not None and not arm.ik.collisions(
-                loop.data, sol[0], ignore, c.GRIPPER_OPEN, shift
-            ):
-                break
-        else:
+        sol = arm.plan(
+            point,
+            axis * PRE_HANDLE,
+            rotations,
+            ignore,
+            c.GRIPPER_OPEN,
+            np.asarray(TOP_DOWN_SEED),
+            assist=assists,
+        )
+        if sol is None or (
+            sol.hits
+            and arm.ik.collisions(loop.data, sol.q_start, ignore, c.GRIPPER_OPEN, sol.shift)
+        ):
             return f"the handle of {part.id} is out of reach"
-        q_pre, rot, shift = sol
+        rot, shift = sol.rotation, sol.shift
         arm.shift_base(shift)
-        joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
+        joint_move(loop, sol.q_start, 2.5, c.GRIPPER_OPEN)
         point, axis = self._handle(part)
-        if not arm.line(point + axis * PRE_HANDLE, point, rot, 1.5, c.GRIPPER_OPEN):
+        if not arm.line(point + axis * PRE_HANDLE, point, rot, 1.5, c.GRIPPER_OPEN, sol.q_end):
             self._let_go(axis, shift)
             return f"the handle of {part.id} is out of reach"
         hold_with_gripper(loop, 0.8, c.GRIPPER_CLOSED)
-        if not arm.touching(ignore):
+        if not arm.touching(drawer):
             self._let_go(axis, shift)
             return f"grasp of the handle of {part.id} failed"
         return shift, rot

@@ -43,10 +43,13 @@ def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
 
 
 def run_move(loop: SimLoop, refs: StepReferences, step: UavStep, arm: ArmStep | None) -> None:
-    """Fly ``step`` (arm stowed first), stopping for ``arm``, the next ARM step, if any."""
+    """Fly ``step``, stopping for ``arm``, the next ARM step, if any. The arm is stowed first
+    unless it holds something: folding a held object up against the arm knocks it out of the
+    fingers, so it is carried where the pick lifted it."""
     ref = refs(loop.data, arm.object, arm.skill, loop.held) if arm else None
     flight = loop.config.flight
-    stow_arm(loop, flight)
+    if loop.held is None:
+        stow_arm(loop, flight)
     start = loop.controller.setpoint.copy()
     target = move_target(start, refs.episode.uav_start.yaw_deg, step, ref)
     fly_to(loop, target, flight)

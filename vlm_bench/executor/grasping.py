@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.layout import CONTAINER_FLOOR
-from vlm_bench.executor.arm import Arm
+from vlm_bench.executor.arm import Arm, Reach
 from vlm_bench.executor.grasp_points import grasp_points
 from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
@@ -32,6 +32,12 @@ Vec = NDArray[np.float64]
 PRE_GRASP = 0.12  # m above the grasp point
 LIFT = 0.15  # m
 MIN_LIFT = 0.08  # m the object must rise for a pick to count
+CARRY_DEPTH = 0.30  # m below the arm base: a held object's TCP height in flight
+HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
+RETREAT = 0.12  # m: the open hand rises at least this far after a release
+RELEASE_TOL = 0.03  # m: the TCP must come this close to the release point
+DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
+DRAWER_DEPTHS = (1.0, 0.9)  # m: arm base above it (from a reach scan over an open drawer)
 INNER_REACH = 0.30  # m, horizontal: top-down releases closer to the arm base are moved out
 
 
@@ -50,16 +56,16 @@ class Grasper:
         ignore: set[int],
         gripper: float,
         seed: Vec,
-    ) -> tuple[Vec, Vec, Vec] | None:
-        """Joint angles at ``point + approach``, orientation and base adjustment for a
-        top-down motion down to ``point``, over the four headings equivalent for a box-like
-        object (or a held one)."""
+        assist: list[Vec] | None = None,
+    ) -> Reach | None:
+        """The top-down motion from ``point + approach`` down to ``point``, over the four
+        headings equivalent for a box-like object (or a held one)."""
         rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(4)]
-        return self.arm.plan(point, approach, rotations, ignore, gripper, seed)
+        return self.arm.plan(point, approach, rotations, ignore, gripper, seed, assist)
 
-    def _plan_grasp(self, obj: str, kind: ObjectKind) -> tuple[Vec, Vec, Vec, Vec] | None:
-        """Pre-grasp posture, hand orientation, UAV move and grasp point: the first of the
-        object's grasp points the hand reaches touching nothing else, else the best one."""
+    def _plan_grasp(self, obj: str, kind: ObjectKind) -> tuple[Reach, Vec] | None:
+        """The descent onto a grasp point, and the point: the first of the object's grasp
+        points the hand reaches touching nothing else, else the best one."""
         loop = self.loop
         lo, hi = object_bounds(loop.model, loop.data, obj, solid_only=True)
         body = loop.data.body(obj)
@@ -79,10 +85,9 @@ class Grasper:
             )
             if sol is None:
                 continue
-            q_pre, hand, shift = sol
-            if not self.arm.ik.collisions(loop.data, q_pre, ignore, c.GRIPPER_OPEN, shift):
-                return q_pre, hand, shift, cand.point
-            fallback = fallback or (q_pre, hand, shift, cand.point)
+            if sol.hits == 0:
+                return sol, cand.point
+            fallback = fallback or (sol, cand.point)
         return fallback
 
     def touching_fingers(self, obj: str) -> bool:
@@ -102,13 +107,14 @@ class Grasper:
         sol = self._plan_grasp(obj, object_kind(kinds[obj]))
         if sol is None:
             return f"{obj} is out of reach"
-        q_pre, rot, shift, grasp = sol
+        reach, grasp = sol
+        rot, shift = reach.rotation, reach.shift
         above = grasp + np.array([0.0, 0.0, PRE_GRASP])
         arm = self.arm
         arm.shift_base(shift)
-        joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
+        joint_move(loop, reach.q_start, 2.5, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
-        if not arm.line(above, grasp, rot, 1.5, c.GRIPPER_OPEN):
+        if not arm.line(above, grasp, rot, 1.5, c.GRIPPER_OPEN, reach.q_end):
             return f"{obj} is out of reach"
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
@@ -119,8 +125,18 @@ class Grasper:
         if not self.touching_fingers(obj) or loop.data.body(obj).xpos[2] - z0 < MIN_LIFT:
             return f"grasp of {obj} failed"
         loop.held = obj
+        self._raise_to_carry(rot)
         arm.shift_base(-shift)
         return None
+
+    def _raise_to_carry(self, rot: Vec) -> None:
+        """Lift the held object straight up until the TCP is :data:`CARRY_DEPTH` below the arm
+        base (or as high as the arm follows): UAV moves carry it there rather than stowed,
+        where a bulky object would be folded against the arm and knocked out of the fingers."""
+        tcp, _ = self.arm.tcp()
+        top = float(self.loop.data.body(c.ARM_BASE_BODY).xpos[2]) - CARRY_DEPTH
+        if tcp[2] < top:
+            self.arm.line(tcp, np.array([tcp[0], tcp[1], top]), rot, 1.0, c.GRIPPER_CLOSED)
 
     def place(self, episode: Episode, step: ArmStep) -> str | None:
         """Lower the held object onto/into ``step.object`` and release it."""
@@ -150,20 +166,65 @@ class Grasper:
             ignore,
             c.GRIPPER_CLOSED,
             arm_qpos(loop.model, loop.data),
+            self._drawer_assists(episode, dest, release),
         )
+        if (sol is None or sol.hits) and self._is_container(episode, dest):
+            # No clear way down inside (the hand, 0.2 m long, meets a wall or what lies
+            # there already): let go just above the rim instead, and let it drop in.
+            drop = release.copy()
+            drop[2] = above[2] - 0.03
+            high = self._plan_top_down(
+                drop,
+                above - drop,
+                heading,
+                ignore,
+                c.GRIPPER_CLOSED,
+                arm_qpos(loop.model, loop.data),
+            )
+            if high is not None and (sol is None or high.hits < sol.hits):
+                sol, release = high, drop
         if sol is None:
             return f"{dest} is out of reach"
-        q_above, rot, shift = sol
+        rot, shift = sol.rotation, sol.shift
         arm.shift_base(shift)
-        joint_move(loop, q_above, 2.0, c.GRIPPER_CLOSED)
-        if not arm.line(above, release, rot, 1.2, c.GRIPPER_CLOSED):
+        joint_move(loop, sol.q_start, 2.0, c.GRIPPER_CLOSED)
+        # Down to the release in joint space, on the path the plan checked: a long straight
+        # line (into a deep drawer) can leave IK's branch and swing the forearm into a rim.
+        joint_move(loop, sol.q_end, 1.5, c.GRIPPER_CLOSED)
+        hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
+        if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
             return f"{dest} is out of reach"
         hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
         loop.held = None
-        arm.line(release, release + np.array([0.0, 0.0, 0.12]), rot, 1.0, c.GRIPPER_OPEN)
+        retreat = max(RETREAT, float(above[2] - release[2]))  # clear of the rim before stowing
+        arm.line(release, release + np.array([0.0, 0.0, retreat]), rot, 1.0, c.GRIPPER_OPEN)
         stow_arm(loop, loop.config.flight)
         arm.shift_base(-shift)
         return None
+
+    def _is_container(self, episode: Episode, dest: str) -> bool:
+        """Whether ``dest`` holds things inside it (a basket, a bowl; not a plate or a
+        drawer, whose release is planned on its own)."""
+        kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
+        return kind is not None and kind.container and not kind.support
+
+    def _drawer_assists(self, episode: Episode, dest: str, release: Vec) -> list[Vec] | None:
+        """For a release into an open drawer, UAV moves to hover in front of it, high: the
+        drawer's tall front leaves the arm no way in across it, only down from above. ``None``
+        (the usual assists) for other destinations."""
+        part = next((p for p in episode.parts if p.id == dest and p.kind == "drawer"), None)
+        if part is None:
+            return None
+        axis = np.array(self.loop.data.body(part.parent).xmat).reshape(3, 3)[:, 0]
+        axis[2] = 0.0
+        axis /= np.linalg.norm(axis)
+        base = self.loop.data.body(c.ARM_BASE_BODY).xpos
+        hover = [
+            np.append(release[:2] + axis[:2] * out, release[2] + depth) - base
+            for depth in DRAWER_DEPTHS
+            for out in DRAWER_OUT
+        ]
+        return hover + self.arm.assists(release)
 
     def _hang(self, held: str) -> float:
         """TCP height above the held object's bottom (m)."""
@@ -189,7 +250,47 @@ class Grasper:
         else:
             rest = float(hi[2])
         x, y = self._into_band(centre, lo, hi, held)
+        x, y = self._beside_contents(episode, dest, held, np.array([x, y]), lo, hi)
         return np.array([x, y, rest + self._hang(held) + 0.02])
+
+    def _beside_contents(
+        self, episode: Episode, dest: str, held: str, xy: Vec, lo: Vec, hi: Vec
+    ) -> tuple[float, float]:
+        """Release x, y moved off what already lies in the destination (a second object into
+        the same basket): of a grid of points keeping the held object inside, the nearest to
+        ``xy`` where it clears the contents' boxes, else the one farthest from them (walls
+        are for the hand's planning to clear)."""
+        model, data = self.loop.model, self.loop.data
+        boxes = []
+        for o in episode.objects:
+            if o.id in (dest, held):
+                continue
+            olo, ohi = object_bounds(model, data, o.id, solid_only=True)
+            mid = (olo + ohi) / 2
+            within = np.all(lo[:2] <= mid[:2]) and np.all(mid[:2] <= hi[:2])
+            if within and lo[2] - 0.01 <= olo[2] < hi[2]:  # in it, not what it stands on
+                boxes.append((mid[:2], float(np.max(ohi[:2] - olo[:2])) / 2))
+        if not boxes:
+            return float(xy[0]), float(xy[1])
+        hlo, hhi = object_bounds(model, data, held, solid_only=True)
+        held_half = float(np.max(hhi[:2] - hlo[:2])) / 2
+        half = (hi[:2] - lo[:2]) / 2
+        slack = np.maximum(0.0, half - held_half - 0.02)
+        # The hand, 0.2 m long, lies along the longer side: it must stay clear of the walls.
+        long = int(np.argmax(half))
+        slack[long] = min(slack[long], max(0.0, half[long] - HAND_HALF))
+        centre = (lo[:2] + hi[:2]) / 2
+        steps = np.linspace(-1.0, 1.0, 7)
+        best, best_key = xy, (-1.0, -math.inf, 0.0)
+        for fx in steps:
+            for fy in steps:
+                p = centre + slack * np.array([fx, fy])
+                room = min(float(np.linalg.norm(p - m)) - r for m, r in boxes)
+                fits = room >= held_half + 0.015
+                key = (float(fits), 0.0 if fits else room, -float(np.linalg.norm(p - xy)))
+                if key > best_key:
+                    best, best_key = p, key
+        return float(best[0]), float(best[1])
 
     def _into_band(self, centre: Vec, lo: Vec, hi: Vec, held: str) -> tuple[float, float]:
         """Release x, y: the destination's centre, moved away from the arm base (within the

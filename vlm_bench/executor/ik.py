@@ -111,10 +111,12 @@ class ArmIk:
         seed: Vec,
         iterations: int = 200,
         base: Vec | None = None,
+        posture: Vec | None = None,
     ) -> tuple[Vec, float]:
         """Joint angles putting the TCP at ``pos`` with orientation ``rotation`` (3×3, world;
         see :func:`top_down_rotation`), with the UAV where it is (or moved by ``base``, m, to
-        plan a base adjustment).
+        plan a base adjustment). A weak posture task pulls towards ``posture`` (default: the
+        seed), which picks the branch among the arm's redundant solutions.
 
         Returns the solution and its residual (position error in m plus rotation error in
         rad); the caller decides whether it is good enough.
@@ -125,7 +127,10 @@ class ArmIk:
             mink.SO3.from_matrix(np.asarray(rotation)), np.asarray(pos)
         )
         self.frame.set_target(target)
-        self.posture.set_target(self.config.q.copy())
+        rest = self.config.q.copy()
+        if posture is not None:
+            rest[self._r_qadr] = np.clip(posture, self.lo, self.hi)
+        self.posture.set_target(rest)
         residual = math.inf
         for _ in range(iterations):
             err = self.frame.compute_error(self.config)

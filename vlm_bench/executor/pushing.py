@@ -178,7 +178,7 @@ class Pusher:
             )
             if sol is None:
                 continue
-            q_pre, rot, _ = sol
+            q_pre, rot = sol.q_start, sol.rotation
             q_end, res = self.arm.solve_any(end, rot, q_pre, shift)
             if res <= IK_OK and not ik.collisions(data, q_end, ignore, c.GRIPPER_CLOSED, shift):
                 return PushPlan(q_pre, rot, shift, start, end, carried=False)
