@@ -16,6 +16,9 @@ POS_JITTER = 0.03  # m, per axis, movable objects
 YAW_JITTER = 20.0  # deg
 EDGE_MARGIN = 0.02  # m, objects stay this far inside their support's top
 MIN_GAP = 0.01  # m between bounding boxes on the same support
+GRIPPER_SPAN = 0.075  # m: widest an object may be for the open gripper to close around it
+HAND_CLEARANCE = 0.08  # m: from a long object to a taller neighbour, for the closing hand
+RIM_GRASPED = frozenset({"bowl", "mug"})  # held by the rim, from whichever side is free
 CONTAINER_FLOOR = 0.012  # m, height of a container's inner floor above its base
 
 
@@ -82,7 +85,7 @@ def place_objects(task: TaskSpec, rng: np.random.Generator | None) -> list[Episo
             label=labels.get(spec.id),
         )
     objects = [placed[o.id] for o in task.objects]
-    _check_layout(objects)
+    check_layout(objects)
     return objects
 
 
@@ -91,7 +94,7 @@ def footprint(obj: EpisodeObject) -> np.ndarray:
     return rect_corners(obj.pos, object_kind(obj.kind).size[:2], obj.yaw_deg)
 
 
-def _check_layout(objects: list[EpisodeObject]) -> None:
+def check_layout(objects: list[EpisodeObject]) -> None:
     by_id = {o.id: o for o in objects}
     for i, a in enumerate(objects):
         if a.on != "floor":
@@ -103,8 +106,29 @@ def _check_layout(objects: list[EpisodeObject]) -> None:
             if not _inside(footprint(a), inner):
                 raise ValueError(f"{a.id} is not inside the top of {sup.id}")
         for b in objects[i + 1 :]:
-            if a.on == b.on and rects_overlap(footprint(a), footprint(b), MIN_GAP):
+            if a.on == b.on and rects_overlap(footprint(a), footprint(b), _gap(a, b)):
                 raise ValueError(f"{a.id} overlaps {b.id}")
+
+
+def _needs_hand_room(obj: EpisodeObject, neighbour: EpisodeObject) -> bool:
+    """Whether a top-down hand grasping ``obj`` needs room on the side of ``neighbour``: the
+    fingers must close across a long object's narrow side, and the Panda hand spans 0.2 m
+    along that axis, so a neighbour taller than the object leaves it no way down."""
+    kind, other = object_kind(obj.kind), object_kind(neighbour.kind)
+    return (
+        kind.graspable
+        and kind.movable
+        and kind.name not in RIM_GRASPED
+        and max(kind.size[:2]) > GRIPPER_SPAN
+        and other.size[2] > kind.size[2]
+    )
+
+
+def _gap(a: EpisodeObject, b: EpisodeObject) -> float:
+    """Least gap (m) between the footprints of two objects on the same support."""
+    if _needs_hand_room(a, b) or _needs_hand_room(b, a):
+        return HAND_CLEARANCE
+    return MIN_GAP
 
 
 def _inside(corners: np.ndarray, outer: np.ndarray) -> bool:
