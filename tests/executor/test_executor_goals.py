@@ -13,6 +13,7 @@ from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.sim.objects.base import free_joint_name
+from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene, build_scene
 from vlm_bench.types.task import Goal
 
@@ -113,3 +114,19 @@ def test_on_a_stove_is_measured_at_the_cooktop_not_at_its_knob() -> None:
     _settle(scene)
     goal = (_goal("on", "white_bowl", "stove"),)
     assert check_goals(scene.episode, scene.model, scene.data, goal) == (True,)
+
+
+def test_a_banana_across_a_bowl_is_inside_and_one_above_its_rim_is_not() -> None:
+    scene = build_scene(make_episode("variant_banana_in_bowl", 0))
+    bowl = scene.data.body("blue_bowl").xpos.copy()  # 0.16 m across, 0.07 m tall
+    goal = (_goal("inside", "banana", "blue_bowl"),)
+    # The 0.19 m banana cannot lie flat in the bowl: it rests on the rim, its middle sunk in.
+    _place(scene, "banana", (bowl[0], bowl[1], bowl[2] + 0.05))
+    _settle(scene, 1.0)
+    bottom = float(object_bounds(scene.model, scene.data, "banana", solid_only=True)[0][2])
+    assert bowl[2] + 0.035 < bottom < bowl[2] + 0.07 - 0.015  # above half height, below the rim
+    assert check_goals(scene.episode, scene.model, scene.data, goal) == (True,)
+    # Held level with its bottom just above the rim: over the bowl, but not in it.
+    _place(scene, "banana", (bowl[0], bowl[1], bowl[2] + 0.075))
+    mujoco.mj_forward(scene.model, scene.data)
+    assert check_goals(scene.episode, scene.model, scene.data, goal) == (False,)

@@ -31,6 +31,7 @@ KNOB_ROTATED_DEG = 75.0
 ON_GAP_ABOVE = 0.03  # m: a resting object's bottom at most this far above the support's top
 ON_GAP_BELOW = 0.03  # m: ...and at most this far below it (plates, soft contacts)
 FLOOR_TOL = 0.01  # m: an object inside a container sits no lower than its base minus this
+INSIDE_BELOW_RIM = 0.015  # m: ...and its lowest point at least this far below the rim
 
 
 @dataclass(frozen=True)
@@ -91,13 +92,16 @@ def _horizontal(a: Vec, b: Vec) -> float:
 
 
 def is_inside(state: GoalState, obj: str, container: str) -> bool:
-    """Object centre within the container's footprint, resting in its lower half, ≤ 0.20 m."""
+    """Object centre within the container's footprint (and ≤ 0.20 m from the container's),
+    its lowest point at least 1.5 cm below the rim and not under the container's base. A
+    banana longer than a bowl is wide lies across it, its middle sunk in: that is inside; an
+    object balanced on the rim is not."""
     o, c = state.box(obj), state.box(container)
     if _horizontal(o.centre, c.centre) > INSIDE_MAX_CENTRE_DIST:
         return False
     if not state.in_footprint(o.centre, container):
         return False
-    return c.bottom - FLOOR_TOL <= o.bottom <= (c.bottom + c.top) / 2
+    return c.bottom - FLOOR_TOL <= o.bottom <= c.top - INSIDE_BELOW_RIM
 
 
 def is_on(state: GoalState, obj: str, support: str) -> bool:
