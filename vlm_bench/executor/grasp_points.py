@@ -4,8 +4,8 @@ The Panda hand opens 8 cm, so its fingers must close across an object's narrow s
 or a chocolate box across its width, a box or a can across its 6 cm side. A bowl, 16 cm across,
 and a mug, whose 7.2 cm cup leaves the open fingers 4 mm each side, are held by the rim, one finger
 inside and one outside the wall, closing radially; a mug's rim away from its handle (+x). A
-teddy bear is held by its head, across the ears. The hand's x axis is its heading; the fingers
-close along its y axis.
+teddy bear is held by its head, across the ears; a cleanser bottle by its cap. The hand's x axis
+is its heading; the fingers close along its y axis.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ MAX_ACROSS = 0.075  # m: widest span the open fingers close on with some clearan
 RIM_INSET = 0.007  # m from a bowl's outer radius to the middle of its 1 cm wall
 BELOW_TOP = 0.03  # m: fingers close this far below the top (at least 1.5 cm above the bottom)
 RIM_BELOW_TOP = 0.02  # m: for rim grasps
+CAP_BELOW_TOP = 0.014  # m: a cleanser is held by its cap's middle
 TEDDY_HEAD = (-0.008, 0.125)  # m: the head's centre (x, height) in a 0.17 m bear's frame
 MUG_RIM_INSET = 0.0065  # m from the foot's radius to the middle of the cup's wall
 MUG_RIM_ANGLES = (180.0, 135.0, 225.0, 90.0, 270.0)  # deg from the handle, best first
@@ -78,6 +79,10 @@ def grasp_points(kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec) -> li
         head = np.array([pos[0] + TEDDY_HEAD[0] * k * cy, pos[1] + TEDDY_HEAD[0] * k * sn, 0.0])
         head[2] = float(lo[2]) + TEDDY_HEAD[1] * k
         return [GraspPoint(head, _headings(yaw, 2))]
+    if kind.name == "cleanser":
+        # By the cap (2.8 cm tall for the pads' 2.6 cm): the palm would meet it lower down.
+        cap = np.array([pos[0], pos[1], float(hi[2]) - CAP_BELOW_TOP])
+        return [GraspPoint(cap, _headings(yaw, 4))]
     if max(sx, sy) <= MAX_ACROSS:
         return [GraspPoint(centre, _headings(yaw, 4))]
     # Close across the narrower side: the hand's x axis along the longer one.

@@ -31,6 +31,8 @@ from vlm_bench.types.world import RGBA, ObjectKind, Vec3
 
 METAL: RGBA = (0.72, 0.73, 0.76, 1.0)
 TAPE: RGBA = (0.78, 0.62, 0.38, 1.0)
+CLEANSER_NECK = 0.035  # m from a cleanser's shoulder to its cap
+CLEANSER_CAP_R = 0.018  # m
 
 
 def rounded_slab(
@@ -162,7 +164,11 @@ def build_cleanser(
     kind: ObjectKind,
     rgba: RGBA,
 ) -> mujoco.MjsBody:
-    """A tall bottle: rounded body, shoulder, neck, cap with nozzle, white front/back labels."""
+    """A tall bottle: rounded body, shoulder, neck, cap with nozzle, white front/back labels.
+
+    A top-down hand reaches only ~4 cm down the bottle before its palm meets the cap, so it
+    holds the bottle by the cap: 3.6 cm across and (at 0.21 m) 2.8 cm tall.
+    """
     body = object_body(parent, obj, kind)
     kit = Kit(spec, body, obj.id, GRIP)
     sx, sy, sz = kind.size
@@ -173,9 +179,9 @@ def build_cleanser(
     kit.ellipsoid(
         "shoulder", (sx / 2 - 0.001, sy / 2 - 0.001, 0.03), (0.0, 0.0, shoulder_z), plastic
     )
-    kit.cylinder("neck", 0.013, 0.01, (0.0, 0.0, shoulder_z + 0.035), plastic)
-    cap_h = sz - (shoulder_z + 0.045)
-    kit.cylinder("cap", 0.016, cap_h / 2, (0.0, 0.0, sz - cap_h / 2), cap)
+    kit.cylinder("neck", 0.013, 0.008, (0.0, 0.0, shoulder_z + 0.03), plastic)
+    cap_h = sz - (shoulder_z + CLEANSER_NECK)  # the grasp: the pads' 2.6 cm fit on the cap
+    kit.cylinder("cap", CLEANSER_CAP_R, cap_h / 2, (0.0, 0.0, sz - cap_h / 2), cap)
     kit.box("nozzle", (0.008, 0.004, 0.004), (0.02, 0.0, sz - 0.006), cap)
     label = textured_look(spec, bottle_label, rgba)
     for side in (1.0, -1.0):
