@@ -30,6 +30,8 @@ BEARING_SPREAD = 12.0  # deg around the sector centre (boundaries are 22.5 deg a
 FRONT_CONE = 35.0  # deg, start cone for parts approached from the front (drawers)
 WALL_CLEARANCE = 0.8  # m
 TALL_CLEARANCE = 0.6  # m from fixtures taller than the stowed arm's lowest point
+OBSERVE_DEPTH = 0.85  # m: the arm's start (observe) posture hangs this far below the UAV...
+OBSERVE_CLEARANCE = 0.40  # m: ...within 0.28 m of it: a table top under it would be in contact
 
 
 def first_sector(task_id: str, seed: int) -> int:
@@ -80,10 +82,12 @@ def _check_start(task: TaskSpec, start: UavPose, objects: list) -> None:  # type
         raise AmbiguousGeometry("UAV start is too close to the arena edge")
     for obj in objects:
         kind = object_kind(obj.kind)
-        if kind.movable or obj.pos[2] + kind.size[2] < start.pos[2] - 0.5:
+        top = obj.pos[2] + kind.size[2]
+        if kind.movable or top < start.pos[2] - OBSERVE_DEPTH:
             continue
         corners = rect_corners(obj.pos, kind.size[:2], obj.yaw_deg)
-        if point_rect_distance(start.pos, corners) < TALL_CLEARANCE:
+        dist = point_rect_distance(start.pos, corners)
+        if dist < OBSERVE_CLEARANCE or (top > start.pos[2] - 0.5 and dist < TALL_CLEARANCE):
             raise AmbiguousGeometry(f"UAV start is too close to {obj.id}")
 
 
