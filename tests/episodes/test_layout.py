@@ -34,6 +34,7 @@ def _table() -> EpisodeObject:
         ("banana", 0.05, False),  # closing across y, the 0.2 m hand would land on the rim
         ("banana", 0.09, True),
         ("cube", 0.05, True),  # fits the open hand whichever way: it turns to the free side
+        ("cube", 0.02, False),  # ...but even the hand's 6 cm thickness needs some room
         ("bowl", 0.03, True),  # held by the rim, from any free side
     ],
 )

@@ -18,6 +18,7 @@ EDGE_MARGIN = 0.02  # m, objects stay this far inside their support's top
 MIN_GAP = 0.01  # m between bounding boxes on the same support
 GRIPPER_SPAN = 0.075  # m: widest an object may be for the open gripper to close around it
 HAND_CLEARANCE = 0.08  # m: from a long object to a taller neighbour, for the closing hand
+PALM_CLEARANCE = 0.03  # m: from an object the open hand fits around to a taller neighbour
 RIM_GRASPED = frozenset({"bowl", "mug"})  # held by the rim, from whichever side is free
 CONTAINER_FLOOR = 0.012  # m, height of a container's inner floor above its base
 
@@ -110,25 +111,26 @@ def check_layout(objects: list[EpisodeObject]) -> None:
                 raise ValueError(f"{a.id} overlaps {b.id}")
 
 
-def _needs_hand_room(obj: EpisodeObject, neighbour: EpisodeObject) -> bool:
-    """Whether a top-down hand grasping ``obj`` needs room on the side of ``neighbour``: the
-    fingers must close across a long object's narrow side, and the Panda hand spans 0.2 m
-    along that axis, so a neighbour taller than the object leaves it no way down."""
+def _hand_room(obj: EpisodeObject, neighbour: EpisodeObject) -> float:
+    """Room (m) a top-down hand needs beside ``obj`` on the side of a taller ``neighbour``.
+
+    The Panda hand is 0.2 m long along its fingers' closing axis and 6 cm thick across it.
+    A long object must be closed on across its narrow side, so the hand's length lies towards
+    any neighbour: :data:`HAND_CLEARANCE`. An object that fits the open hand lets it turn
+    its thickness to the neighbour (to grasp or to push it): :data:`PALM_CLEARANCE`. Rim-held
+    bowls and mugs are held from whichever side is free.
+    """
     kind, other = object_kind(obj.kind), object_kind(neighbour.kind)
-    return (
-        kind.graspable
-        and kind.movable
-        and kind.name not in RIM_GRASPED
-        and max(kind.size[:2]) > GRIPPER_SPAN
-        and other.size[2] > kind.size[2]
-    )
+    if not kind.graspable or not kind.movable or kind.name in RIM_GRASPED:
+        return 0.0
+    if other.size[2] <= kind.size[2]:
+        return 0.0
+    return HAND_CLEARANCE if max(kind.size[:2]) > GRIPPER_SPAN else PALM_CLEARANCE
 
 
 def _gap(a: EpisodeObject, b: EpisodeObject) -> float:
     """Least gap (m) between the footprints of two objects on the same support."""
-    if _needs_hand_room(a, b) or _needs_hand_room(b, a):
-        return HAND_CLEARANCE
-    return MIN_GAP
+    return max(MIN_GAP, _hand_room(a, b), _hand_room(b, a))
 
 
 def _inside(corners: np.ndarray, outer: np.ndarray) -> bool:
