@@ -26,6 +26,7 @@ from vlm_bench.executor.motion import hold_with_gripper, joint_move
 from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.constants import part_handle_site, part_joint
+from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.episode import Episode, PartRef
 from vlm_bench.types.plan import ArmStep
 
@@ -41,6 +42,7 @@ KNOB_GRIP_DEPTH = 0.022  # m below the knob's top where the fingers hold it
 TURN_S = 3.0  # s for the turn
 RETREAT = 0.08  # m the open hand backs off the handle at least...
 CLEAR_OF_HANDLE = 0.50  # m: ...and until the arm base is this far (horizontally) from it
+STROKE_FRACTIONS = (1.0, 0.75, 0.5, 0.25)  # of a slide, tried for the arm's own stroke
 BACK_ASSIST = (0.0, 0.1, 0.2)  # m the UAV may back away from a handle before grasping it
 
 
@@ -79,6 +81,11 @@ class Articulator:
         axis[2] = 0.0
         return point, axis / np.linalg.norm(axis)
 
+    def _handle_geoms(self, part: PartRef) -> set[int]:
+        """The drawer's bar handle and its posts: all the hand may touch of it."""
+        model = self.loop.model
+        return {g for g in self.arm.body_geoms(part.id) if "handle" in (model.geom(g).name or "")}
+
     def _grasp_handle(self, part: PartRef) -> tuple[Vec, Vec] | str:
         """Grasp the drawer's bar handle from the front; the UAV's move and the hand's
         orientation on success, else the reason."""
@@ -86,8 +93,7 @@ class Articulator:
         point, axis = self._handle(part)
         rotations = [frontal_rotation(axis, up) for up in (True, False)]
         drawer = arm.body_geoms(part.id)
-        # Only the bar and its posts may be touched: the way in must clear the drawer's front.
-        ignore = {g for g in drawer if "handle" in (loop.model.geom(g).name or "")}
+        ignore = self._handle_geoms(part)  # the way in must clear the drawer's front
         assists = [np.append(axis[:2] * b, dz) for b in BACK_ASSIST for dz in (0.0, -0.1, 0.1)]
         sol = arm.plan(
             point,
@@ -122,13 +128,34 @@ class Articulator:
         arm = self.arm
         start, axis = self._handle(part)
         end = start + axis * distance
-        arm.line(start, end, rot, max(1.5, abs(distance) / SLIDE_SPEED), c.GRIPPER_CLOSED)
+        stroke = self._stroke(part, start, axis * distance, rot)
+        if stroke is not None:
+            reach, q_reach = stroke
+            seconds = max(1.5, float(np.linalg.norm(reach - start)) / SLIDE_SPEED)
+            arm.line(start, reach, rot, seconds, c.GRIPPER_CLOSED, q_reach)
         rest = float(np.dot(end - arm.tcp()[0], axis * math.copysign(1.0, distance)))
         if rest > 0.01:
             step = axis * math.copysign(rest, distance)
             arm.carry(step, SLIDE_SPEED)
             return step
         return np.zeros(3)
+
+    def _stroke(self, part: PartRef, start: Vec, travel: Vec, rot: Vec) -> tuple[Vec, Vec] | None:
+        """The longest part of the slide (all, ¾, ½ or ¼ of ``travel``) the arm makes on its
+        own: its end and joint angles there, where IK reaches it and the joint-space sweep
+        touches nothing but the handle (a long pull can fold the elbow into the drawer's
+        front). ``None``: the UAV carries the whole slide."""
+        arm, loop = self.arm, self.loop
+        handle = self._handle_geoms(part)
+        now = arm_qpos(loop.model, loop.data)
+        for frac in STROKE_FRACTIONS:
+            end = start + travel * frac
+            q_end, res = arm.ik.solve(loop.data, end, rot, now)
+            if res > IK_OK:
+                continue
+            if not arm.path_hits(now, q_end, handle, c.GRIPPER_CLOSED, np.zeros(3)):
+                return end, q_end
+        return None
 
     def _let_go(self, axis: Vec, back: Vec, return_xy: bool = True) -> None:
         """Open, back the hand off along ``axis`` until the stowed arm clears the handle (the
