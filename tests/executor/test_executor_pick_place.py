@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 from vlm_bench.episodes.generate import make_episode
-from vlm_bench.executor.executor import execute_plan
+from vlm_bench.executor.arm import Arm
+from vlm_bench.executor.executor import _Run, execute_plan
 from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.loop import SimLoop
+from vlm_bench.executor.skills import default_skills
+from vlm_bench.sim import constants as c
+from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.sim.scene import build_scene
 
 
@@ -27,3 +32,28 @@ def test_place_without_pick_fails_with_reason() -> None:
     result = execute_plan(episode, plan)
     assert result.steps[1].status == "failed"
     assert result.failure_reason == "step 1: nothing held"
+
+
+def test_planning_checks_the_held_object_too() -> None:
+    """Collision checks move a held object with the hand: lowered until the cube (not the
+    fingers) reaches into the table, only the check that carries it sees the table."""
+    episode = make_episode("standard_pick_place", 0)
+    scene = build_scene(episode)
+    loop = SimLoop(scene)
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the gray cube
+        assert run.step(i, step, episode.gt_plan).status == "ok"
+    arm = Arm(loop)
+    tcp, rot = arm.tcp()
+    bottom = float(object_bounds(scene.model, scene.data, "gray_cube", solid_only=True)[0][2])
+    table = float(object_bounds(scene.model, scene.data, "table", solid_only=True)[1][2])
+    # TCP lowered so the cube's bottom sinks 1 cm into the table; the fingertips stay above.
+    low = tcp - [0.0, 0.0, bottom - table + 0.01]
+    q, res = arm.ik.solve(scene.data, low, rot, arm_qpos(scene.model, scene.data))
+    assert res < 0.02
+    table_geoms = arm.body_geoms("table")
+    held = arm.body_geoms("gray_cube")
+    bare = arm.ik.collisions(scene.data, q, held, c.GRIPPER_CLOSED)
+    carried = arm.ik.collisions(scene.data, q, held, c.GRIPPER_CLOSED, None, arm.carried())
+    assert not table_geoms & set(bare)
+    assert table_geoms & set(carried)

@@ -10,11 +10,12 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.executor.ik import SEED_POSTURES, ArmIk
+from vlm_bench.executor.ik import SEED_POSTURES, ArmIk, Carried
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.motion import min_jerk
 from vlm_bench.executor.uav_move import fly_to
 from vlm_bench.sim import constants as c
+from vlm_bench.sim.objects.base import free_joint_name
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.robot import arm_qpos, set_arm_targets
 
@@ -98,6 +99,7 @@ class Arm:
         if assist is None:
             assist = self.assists(point)
         now = arm_qpos(self.loop.model, data)
+        carried = self.carried()
         starts = [np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)]
         best: Reach | None = None
         best_key = (math.inf, -math.inf)
@@ -110,8 +112,8 @@ class Arm:
                     q_start, res = self.ik.solve(data, point + approach, rot, q_end, base=shift)
                     if res > IK_OK:
                         continue
-                    hits = self.path_hits(now, q_start, ignore, gripper, shift)
-                    hits += self.path_hits(q_start, q_end, ignore, gripper, shift)
+                    hits = self.path_hits(now, q_start, ignore, gripper, shift, carried)
+                    hits += self.path_hits(q_start, q_end, ignore, gripper, shift, carried)
                     key = (float(hits), -self.ik.limit_margin(q_end))
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
@@ -121,18 +123,42 @@ class Arm:
                 return best
         return best
 
-    def path_hits(self, q_from: Vec, q_to: Vec, ignore: set[int], gripper: float, base: Vec) -> int:
+    def path_hits(
+        self,
+        q_from: Vec,
+        q_to: Vec,
+        ignore: set[int],
+        gripper: float,
+        base: Vec,
+        carried: Carried | None = None,
+    ) -> int:
         """Contacts outside ``ignore`` along the joint-space move ``q_from`` → ``q_to``
         (sampled every :data:`PATH_STEP` rad of the widest joint swing, the end included),
-        with the UAV moved by ``base``."""
+        with the UAV moved by ``base`` and ``carried`` in the hand."""
         n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
+        data = self.loop.data
         return sum(
             len(
                 self.ik.collisions(
-                    self.loop.data, q_from + (q_to - q_from) * k / n, ignore, gripper, base
+                    data, q_from + (q_to - q_from) * k / n, ignore, gripper, base, carried
                 )
             )
             for k in range(1, n + 1)
+        )
+
+    def carried(self) -> Carried | None:
+        """The held object as the hand carries it (pose relative to the TCP now), if any."""
+        held = self.loop.held
+        if held is None:
+            return None
+        data = self.loop.data
+        tcp, rot = self.tcp()
+        body = data.body(held)
+        return Carried(
+            qadr=int(self.loop.model.joint(free_joint_name(held)).qposadr[0]),
+            geoms=self.body_geoms(held),
+            offset=rot.T @ (np.array(body.xpos) - tcp),
+            rotation=rot.T @ np.array(body.xmat).reshape(3, 3),
         )
 
     def back_off(self, point: Vec, within: float, to: float) -> Vec | None:

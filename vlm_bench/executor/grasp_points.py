@@ -1,11 +1,12 @@
 """Where and how the top-down gripper holds each kind of object.
 
 The Panda hand opens 8 cm, so its fingers must close across an object's narrow side: a banana
-or a chocolate box across its width, a box or a can across its 6 cm side. A bowl, 16 cm across,
-and a mug, whose 7.2 cm cup leaves the open fingers 4 mm each side, are held by the rim, one finger
-inside and one outside the wall, closing radially; a mug's rim away from its handle (+x). A
-teddy bear is held by its head, across the ears; a cleanser bottle by its cap. The hand's x axis
-is its heading; the fingers close along its y axis.
+or a chocolate box across its width, a box or a can across its 6 cm side, a 7 cm bolt across
+its shaft (end to end it slips out). A bowl, 16 cm across, and a mug, whose 7.2 cm cup leaves
+the open fingers 4 mm each side, are held by the rim, one finger inside and one outside the
+wall, closing radially; a mug's rim away from its handle (+x). A teddy bear is held by its head,
+across the ears; a cleanser bottle by its cap. The hand's x axis is its heading; the fingers
+close along its y axis.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from vlm_bench.types.world import ObjectKind
 
 Vec = NDArray[np.float64]
 MAX_ACROSS = 0.075  # m: widest span the open fingers close on with some clearance
+SQUARE = 0.6  # narrow/long side ratio above which an object is closed on from either side
 RIM_INSET = 0.007  # m from a bowl's outer radius to the middle of its 1 cm wall
 BELOW_TOP = 0.03  # m: fingers close this far below the top (at least 1.5 cm above the bottom)
 RIM_BELOW_TOP = 0.02  # m: for rim grasps
@@ -83,7 +85,7 @@ def grasp_points(kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec) -> li
         # By the cap (2.8 cm tall for the pads' 2.6 cm): the palm would meet it lower down.
         cap = np.array([pos[0], pos[1], float(hi[2]) - CAP_BELOW_TOP])
         return [GraspPoint(cap, _headings(yaw, 4))]
-    if max(sx, sy) <= MAX_ACROSS:
+    if max(sx, sy) <= MAX_ACROSS and min(sx, sy) >= SQUARE * max(sx, sy):
         return [GraspPoint(centre, _headings(yaw, 4))]
     # Close across the narrower side: the hand's x axis along the longer one.
     along = yaw if sx >= sy else yaw + math.pi / 2

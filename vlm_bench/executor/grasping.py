@@ -126,18 +126,19 @@ class Grasper:
         if not self.touching_fingers(obj) or loop.data.body(obj).xpos[2] - z0 < MIN_LIFT:
             return f"grasp of {obj} failed"
         loop.held = obj
-        self._raise_to_carry(rot)
+        self._raise_to_carry(rot, c.GRIPPER_CLOSED)
         arm.shift_base(-shift)
         return None
 
-    def _raise_to_carry(self, rot: Vec) -> None:
-        """Lift the held object straight up until the TCP is :data:`CARRY_DEPTH` below the arm
-        base (or as high as the arm follows): UAV moves carry it there rather than stowed,
-        where a bulky object would be folded against the arm and knocked out of the fingers."""
+    def _raise_to_carry(self, rot: Vec, gripper: float) -> None:
+        """Lift the hand straight up until the TCP is :data:`CARRY_DEPTH` below the arm base
+        (or as high as the arm follows). Holding an object, UAV moves carry it there rather
+        than stowed, where a bulky object would be folded against the arm and knocked out of
+        the fingers; empty, the stow then starts clear of what the hand just let go of."""
         tcp, _ = self.arm.tcp()
         top = float(self.loop.data.body(c.ARM_BASE_BODY).xpos[2]) - CARRY_DEPTH
         if tcp[2] < top:
-            self.arm.line(tcp, np.array([tcp[0], tcp[1], top]), rot, 1.0, c.GRIPPER_CLOSED)
+            self.arm.line(tcp, np.array([tcp[0], tcp[1], top]), rot, 1.0, gripper)
 
     def place(self, episode: Episode, step: ArmStep) -> str | None:
         """Lower the held object onto/into ``step.object`` and release it."""
@@ -199,6 +200,7 @@ class Grasper:
         loop.held = None
         retreat = max(RETREAT, float(above[2] - release[2]))  # clear of the rim before stowing
         arm.line(release, release + np.array([0.0, 0.0, retreat]), rot, 1.0, c.GRIPPER_OPEN)
+        self._raise_to_carry(rot, c.GRIPPER_OPEN)
         stow_arm(loop, loop.config.flight)
         arm.shift_base(-shift)
         return None

@@ -13,6 +13,7 @@ Collision checks of candidate solutions run on a scratch copy of the full scene
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import mink
 import mujoco
@@ -56,6 +57,17 @@ def frontal_rotation(normal: Vec, fingers_up: bool = True) -> Vec:
     z = -n / np.linalg.norm(n)
     y = np.array([0.0, 0.0, 1.0 if fingers_up else -1.0])
     return np.column_stack([np.cross(y, z), y, z])
+
+
+@dataclass(frozen=True)
+class Carried:
+    """A held object, for collision checks: its free joint's qpos address, its geoms, and its
+    pose in the TCP's frame (offset, m, and rotation)."""
+
+    qadr: int
+    geoms: set[int]
+    offset: Vec
+    rotation: Vec
 
 
 class ArmIk:
@@ -168,9 +180,11 @@ class ArmIk:
         ignore: set[int],
         gripper: float | None = None,
         base: Vec | None = None,
+        carried: Carried | None = None,
     ) -> list[int]:
         """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
-        moved by ``base``), other than the geoms in ``ignore``."""
+        moved by ``base``), other than the geoms in ``ignore``; with ``carried``, the held
+        object moves with the hand and what it would touch counts too."""
         s = self.scratch
         s.qpos[:] = data.qpos
         if base is not None:
@@ -180,13 +194,22 @@ class ArmIk:
             for name in c.FINGER_JOINTS:
                 s.qpos[self.model.joint(name).qposadr[0]] = gripper
         mujoco.mj_kinematics(self.model, s)
+        held: set[int] = set()
+        if carried is not None:
+            tcp, rot = s.site_xpos[self.site], s.site_xmat[self.site].reshape(3, 3)
+            quat = np.empty(4)
+            mujoco.mju_mat2Quat(quat, (rot @ carried.rotation).ravel())
+            s.qpos[carried.qadr : carried.qadr + 3] = tcp + rot @ carried.offset
+            s.qpos[carried.qadr + 3 : carried.qadr + 7] = quat
+            mujoco.mj_kinematics(self.model, s)
+            held = carried.geoms
         mujoco.mj_collision(self.model, s)
         hits = []
         for i in range(s.ncon):
             if s.contact.dist[i] > 0.0:
                 continue
             g1, g2 = int(s.contact.geom[i][0]), int(s.contact.geom[i][1])
-            r1, r2 = g1 in self._robot_geoms, g2 in self._robot_geoms
+            r1, r2 = g1 in self._robot_geoms or g1 in held, g2 in self._robot_geoms or g2 in held
             if r1 != r2:
                 other = g2 if r1 else g1
                 if other not in ignore:
