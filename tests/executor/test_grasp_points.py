@@ -33,6 +33,16 @@ def test_long_objects_are_held_across_their_width(yaw_deg: float) -> None:
     assert len(cand.rotations) == 2
 
 
+def test_a_bolt_is_held_across_its_shaft_level_with_its_centre_of_mass() -> None:
+    kind = object_kind("bolt")  # 0.07 x 0.022 m: fits the open hand, but only end to end
+    com = np.array([-0.012, 0.004, 0.011])  # towards the heavy head (-x), a little off-axis
+    (cand,) = grasp_points(kind, np.zeros(3), 0.0, *_box(kind.size), com)
+    assert len(cand.rotations) == 2
+    for axis in _closing_axes(cand.rotations):
+        assert abs(float(axis[1])) == pytest.approx(1.0)  # across the shaft
+    assert cand.point[:2] == pytest.approx([-0.012, 0.0])  # moved along the length only
+
+
 def test_small_objects_allow_four_headings() -> None:
     kind = object_kind("cube")
     assert max(kind.size[:2]) <= MAX_ACROSS

@@ -60,9 +60,13 @@ def _rim(
     return out
 
 
-def grasp_points(kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec) -> list[GraspPoint]:
+def grasp_points(
+    kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec, com: Vec | None = None
+) -> list[GraspPoint]:
     """Candidate grasps of an object of ``kind`` whose body is at ``pos`` with heading ``yaw``
-    (rad) and whose solid geoms span [lo, hi] now, best first."""
+    (rad) and whose solid geoms span [lo, hi] now, best first. A long object is held level
+    with its centre of mass ``com`` along its length (a bolt's heavy head would swing it
+    round the fingers)."""
     sx, sy, sz = kind.size
     cy, sn = math.cos(yaw), math.sin(yaw)
     height = max(float(lo[2]) + 0.015, float(hi[2]) - BELOW_TOP)
@@ -89,4 +93,7 @@ def grasp_points(kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec) -> li
         return [GraspPoint(centre, _headings(yaw, 4))]
     # Close across the narrower side: the hand's x axis along the longer one.
     along = yaw if sx >= sy else yaw + math.pi / 2
+    if com is not None:
+        axis = np.array([math.cos(along), math.sin(along)])
+        centre[:2] += axis * float(np.dot(np.asarray(com)[:2] - centre[:2], axis))
     return [GraspPoint(centre, _headings(along, 2))]

@@ -74,7 +74,8 @@ class Grasper:
         yaw = math.atan2(rot[1, 0], rot[0, 0])
         ignore = self.arm.body_geoms(obj)
         fallback = None
-        for cand in grasp_points(kind, np.array(body.xpos), yaw, lo, hi):
+        com = np.array(body.xipos)
+        for cand in grasp_points(kind, np.array(body.xpos), yaw, lo, hi, com):
             approach = np.array([0.0, 0.0, PRE_GRASP])
             sol = self.arm.plan(
                 cand.point,
