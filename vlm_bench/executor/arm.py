@@ -24,6 +24,7 @@ IK_OK = 0.02  # residual (m + rad) accepted
 BASE_ASSIST = tuple(np.array([0.0, 0.0, dz]) for dz in (0.0, -0.06, -0.12))
 """UAV moves (m) tried, in order, when the arm alone cannot reach: descents."""
 MAX_ASSIST = 0.35  # m, horizontal: a skill adjusts the UAV, it does not fly to the object
+SWING_BIN = 0.5  # rad: plans whose widest joint swing differs by less are equally good
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
@@ -82,18 +83,17 @@ class Arm:
         seed: Vec,
         assist: Sequence[Vec] | None = None,
     ) -> Reach | None:
-        """Joint angles at ``point + approach``, the orientation and a base adjustment for a
-        straight motion from there to ``point``.
+        """The straight TCP motion from ``point + approach`` to ``point``: joint angles at
+        both ends, the hand's orientation and the UAV move to make first.
 
         IK starts from ``seed``, the arm's posture now and the known postures: a hanging arm
         reaches most points on several branches (elbow out over a table, or folded up), and the
-        first to converge is not always clear of the table. Of the candidate ``rotations`` and
-        branches, prefer one whose arm touches nothing outside ``ignore`` at both ends, then the
-        one farthest from the joint limits. The joint-space moves from the posture now to the
-        start of the line and from there to its end are checked along the way: neither may
-        sweep the arm through the scene. Where none
-        reaches from the UAV's pose (a point at the inner edge of the workspace), the UAV may
-        move by one of ``assist`` (tried in order; default :meth:`assists`).
+        first to converge is not always clear of the table. Every candidate is checked along
+        its joint-space moves (now to the start, start to end) with the held object carried,
+        and the plans compared by contacts on the way, then by the widest joint swing from
+        now (a wide swing can fling a held object), then by the margin from the joint limits.
+        Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
+        (tried in order; default :meth:`assists`); the best plan over all is returned.
         """
         data = self.loop.data
         if assist is None:
@@ -102,7 +102,7 @@ class Arm:
         carried = self.carried()
         starts = [np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)]
         best: Reach | None = None
-        best_key = (math.inf, -math.inf)
+        best_key = (math.inf, math.inf, -math.inf)
         for shift in assist:
             for rot in rotations:
                 for start in starts:
@@ -114,7 +114,8 @@ class Arm:
                         continue
                     hits = self.path_hits(now, q_start, ignore, gripper, shift, carried)
                     hits += self.path_hits(q_start, q_end, ignore, gripper, shift, carried)
-                    key = (float(hits), -self.ik.limit_margin(q_end))
+                    swing = round(float(np.max(np.abs(q_start - now))) / SWING_BIN)
+                    key = (float(hits), float(swing), -self.ik.limit_margin(q_end))
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
                     if hits == 0:

@@ -19,7 +19,7 @@ from vlm_bench.executor.arm import Arm, Reach
 from vlm_bench.executor.grasp_points import grasp_points
 from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
-from vlm_bench.executor.motion import hold_with_gripper, joint_move
+from vlm_bench.executor.motion import HELD_JOINT_SPEED, hold_with_gripper, joint_move
 from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds
@@ -171,7 +171,7 @@ class Grasper:
             arm_qpos(loop.model, loop.data),
             self._drawer_assists(episode, dest, release),
         )
-        if (sol is None or sol.hits) and self._is_container(episode, dest):
+        if (sol is None or sol.hits) and self._can_drop_into(episode, held, dest):
             # No clear way down inside (the hand, 0.2 m long, meets a wall or what lies
             # there already): let go just above the rim instead, and let it drop in.
             drop = release.copy()
@@ -190,10 +190,10 @@ class Grasper:
             return f"{dest} is out of reach"
         rot, shift = sol.rotation, sol.shift
         arm.shift_base(shift)
-        joint_move(loop, sol.q_start, 2.0, c.GRIPPER_CLOSED)
+        joint_move(loop, sol.q_start, 2.0, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         # Down to the release in joint space, on the path the plan checked: a long straight
         # line (into a deep drawer) can leave IK's branch and swing the forearm into a rim.
-        joint_move(loop, sol.q_end, 1.5, c.GRIPPER_CLOSED)
+        joint_move(loop, sol.q_end, 1.5, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
             return f"{dest} is out of reach"
@@ -206,11 +206,17 @@ class Grasper:
         arm.shift_base(-shift)
         return None
 
-    def _is_container(self, episode: Episode, dest: str) -> bool:
-        """Whether ``dest`` holds things inside it (a basket, a bowl; not a plate or a
-        drawer, whose release is planned on its own)."""
+    def _can_drop_into(self, episode: Episode, held: str, dest: str) -> bool:
+        """Whether ``held`` may be dropped into ``dest`` from above its rim: ``dest`` holds
+        things inside it (a basket, a bowl; not a plate or a drawer) and is deeper than the
+        object is tall (a tall bottle dropped in topples out over the rim)."""
         kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
-        return kind is not None and kind.container and not kind.support
+        if kind is None or not kind.container or kind.support:
+            return False
+        model, data = self.loop.model, self.loop.data
+        hlo, hhi = object_bounds(model, data, held, solid_only=True)
+        lo, hi = object_bounds(model, data, dest, solid_only=True)
+        return float(hhi[2] - hlo[2]) < float(hi[2] - lo[2]) - CONTAINER_FLOOR
 
     def _drawer_assists(self, episode: Episode, dest: str, release: Vec) -> list[Vec] | None:
         """For a release into an open drawer, UAV moves to hover in front of it, high: the

@@ -10,6 +10,7 @@ from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
 
 JOINT_SPEED = 0.8  # rad/s, mean over a joint move: faster swings of the 18 kg arm shove the UAV
+HELD_JOINT_SPEED = 0.4  # rad/s, holding an object: a tall bottle held by its cap swings loose
 
 Vec = NDArray[np.float64]
 
@@ -19,13 +20,19 @@ def min_jerk(s: float) -> float:
     return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
 
 
-def joint_move(loop: SimLoop, goal: Vec, seconds: float, gripper: float | None = None) -> None:
+def joint_move(
+    loop: SimLoop,
+    goal: Vec,
+    seconds: float,
+    gripper: float | None = None,
+    speed: float = JOINT_SPEED,
+) -> None:
     """Servo the arm from where it is to ``goal`` along a minimum-jerk joint trajectory taking
-    ``seconds``, or longer for a wide swing (:data:`JOINT_SPEED`); the gripper keeps its
+    ``seconds``, or longer for a wide swing (mean ``speed``, rad/s); the gripper keeps its
     current command unless ``gripper`` is given."""
     q0 = arm_qpos(loop.model, loop.data)
     grip = gripper_target(loop.model, loop.data) if gripper is None else gripper
-    seconds = max(seconds, float(np.max(np.abs(goal - q0))) / JOINT_SPEED)
+    seconds = max(seconds, float(np.max(np.abs(goal - q0))) / speed)
     n = max(1, round(seconds / c.CONTROL_DT))
     for i in range(1, n + 1):
         set_arm_targets(loop.model, loop.data, q0 + (goal - q0) * min_jerk(i / n), grip)
