@@ -118,6 +118,6 @@ def test_release_mid_air_drops_the_object_and_place_finds_nothing_held(
     assert result.steps[3].status == "failed"
     assert result.failure_reason == "step 3: green_cube slipped from the gripper"
     final_z = lifted[-1]
-    assert abs(final_z - z_table) < 0.01  # it fell back onto the table
+    assert final_z < max(lifted) - 0.1  # it fell, onto whatever lay below the hand
     assert result.goals == (False,)
     assert np.isfinite(final_z)

@@ -24,6 +24,7 @@ IK_OK = 0.02  # residual (m + rad) accepted
 BASE_ASSIST = tuple(np.array([0.0, 0.0, dz]) for dz in (0.0, -0.06, -0.12))
 """UAV moves (m) tried, in order, when the arm alone cannot reach: descents."""
 MAX_ASSIST = 0.35  # m, horizontal: a skill adjusts the UAV, it does not fly to the object
+MIN_MARGIN = 0.05  # rad from the joint limits for a plan to count as clear
 SWING_BIN = 0.5  # rad: plans whose widest joint swing differs by less are equally good
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
@@ -91,7 +92,8 @@ class Arm:
         first to converge is not always clear of the table. Every candidate is checked along
         its joint-space moves (now to the start, start to end) with the held object carried,
         and the plans compared by contacts on the way, then by the widest joint swing from
-        now (a wide swing can fling a held object), then by the margin from the joint limits.
+        now (a wide swing can fling a held object), then by the margin from the joint limits
+        (under :data:`MIN_MARGIN` counts as a contact: a servo at its limit strays off the plan).
         Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
         (tried in order; default :meth:`assists`); the best plan over all is returned.
         """
@@ -114,8 +116,11 @@ class Arm:
                         continue
                     hits = self.path_hits(now, q_start, ignore, gripper, shift, carried)
                     hits += self.path_hits(q_start, q_end, ignore, gripper, shift, carried)
+                    margin = min(self.ik.limit_margin(q_start), self.ik.limit_margin(q_end))
+                    if margin < MIN_MARGIN:  # servos at a joint limit stray off the plan
+                        hits += 1
                     swing = round(float(np.max(np.abs(q_start - now))) / SWING_BIN)
-                    key = (float(hits), float(swing), -self.ik.limit_margin(q_end))
+                    key = (float(hits), float(swing), -margin)
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
                     if hits == 0:

@@ -39,7 +39,6 @@ RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (an a
 # a metre down into a drawer sags 4 cm; farther off, it did not get there)
 DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
 DRAWER_DEPTHS = (1.0, 0.9)  # m: arm base above it (from a reach scan over an open drawer)
-INNER_REACH = 0.30  # m, horizontal: top-down releases closer to the arm base are moved out
 
 
 class Grasper:
@@ -259,8 +258,7 @@ class Grasper:
             rest = float(loop.data.body(dest).xpos[2])
         else:
             rest = float(hi[2])
-        x, y = self._into_band(centre, lo, hi, held)
-        x, y = self._beside_contents(episode, dest, held, np.array([x, y]), lo, hi)
+        x, y = self._beside_contents(episode, dest, held, centre[:2], lo, hi)
         return np.array([x, y, rest + self._hang(held) + 0.02])
 
     def _beside_contents(
@@ -301,22 +299,6 @@ class Grasper:
                 if key > best_key:
                     best, best_key = p, key
         return float(best[0]), float(best[1])
-
-    def _into_band(self, centre: Vec, lo: Vec, hi: Vec, held: str) -> tuple[float, float]:
-        """Release x, y: the destination's centre, moved away from the arm base (within the
-        destination's footprint, the held object kept inside) when the centre lies closer than
-        the inner edge of the top-down workspace."""
-        base = self.loop.data.body(c.ARM_BASE_BODY).xpos
-        offset = centre[:2] - base[:2]
-        dist = float(np.linalg.norm(offset))
-        if dist >= INNER_REACH or dist < 1e-6:
-            return float(centre[0]), float(centre[1])
-        hlo, hhi = object_bounds(self.loop.model, self.loop.data, held, solid_only=True)
-        held_half = float(np.max(hhi[:2] - hlo[:2])) / 2
-        slack = max(0.0, float(np.min(hi[:2] - lo[:2])) / 2 - held_half - 0.02)
-        shift = min(slack, INNER_REACH - dist)
-        x, y = centre[:2] + offset / dist * shift
-        return float(x), float(y)
 
 
 def grasp_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
