@@ -119,5 +119,5 @@ def test_release_mid_air_drops_the_object_and_place_finds_nothing_held(
     assert result.failure_reason == "step 3: green_cube slipped from the gripper"
     final_z = lifted[-1]
     assert final_z < max(lifted) - 0.1  # it fell, onto whatever lay below the hand
-    assert result.goals == (False,)
+    assert not result.exec_success  # even where it happens to fall into the basket
     assert np.isfinite(final_z)
