@@ -14,22 +14,8 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES = {  # task -> reason observed at seed 0 (benchmarks/oracle_sweep.py)
-    "color_matched_sorting": "step 2: black_plate is out of reach",
-    "cross_category_transfer": "step 1: meat_can is out of reach",
-    "cross_color_sorting": "step 1: grasp of black_mug failed",
-    "drawer_interaction": "step 8: top_drawer is out of reach",
-    "function_detergent": "step 3: cleanser slipped from the gripper",
-    "material_tin": "step 1: grasp of meat_can failed",
-    "negation_constraint": "step 1: grasp of white_box failed",
-    "store_and_close": "goal not met: inside(rubiks_cube, top_drawer)",
-    "synonym_cup_dish": "step 1: grasp of red_mug failed",
-    "tall_object_cleanser": "goal not met: inside(cleanser, blue_basket)",
-    "tool_manipulation_mug": "step 3: white_plate is out of reach",
-    "tower_stacking": "step 1: grasp of rubiks_cube failed",
-    "variant_banana_in_bowl": "goal not met: inside(banana, blue_bowl)",
-    "variant_chocolate_box": "step 1: grasp of chocolate_box failed",
-    "variant_green_nut": "goal not met: inside(green_nut, yellow_basket)",
-    "verb_drop": "step 1: grasp of banana failed",
+    # A 0.21 m bottle set upright in a 0.16 m bowl with a curved floor tips over its rim.
+    "function_detergent": "goal not met: inside(cleanser, yellow_bowl)",
 }
 
 TASKS = [t.id for t in all_tasks()]

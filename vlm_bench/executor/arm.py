@@ -102,6 +102,9 @@ class Arm:
             assist = self.assists(point)
         now = arm_qpos(self.loop.model, data)
         carried = self.carried()
+        # ``ignore`` (the object to grasp or push, a handle) may be touched on the final line
+        # only: the way to its start must keep off it, or it knocks a tall bottle over.
+        held = carried.geoms if carried is not None else set()
         starts = [np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)]
         best: Reach | None = None
         best_key = (math.inf, math.inf, -math.inf)
@@ -114,7 +117,7 @@ class Arm:
                     q_start, res = self.ik.solve(data, point + approach, rot, q_end, base=shift)
                     if res > IK_OK:
                         continue
-                    hits = self.path_hits(now, q_start, ignore, gripper, shift, carried)
+                    hits = self.path_hits(now, q_start, held, gripper, shift, carried)
                     hits += self.path_hits(q_start, q_end, ignore, gripper, shift, carried)
                     margin = min(self.ik.limit_margin(q_start), self.ik.limit_margin(q_end))
                     if margin < MIN_MARGIN:  # servos at a joint limit stray off the plan
