@@ -14,7 +14,7 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES = {  # task -> reason observed at seed 0 (benchmarks/oracle_sweep.py)
-    # A 0.21 m bottle set upright in a 0.16 m bowl with a curved floor tips over its rim.
+    # Released upright into the 0.16 m bowl, the 0.21 m bottle ends on its side beside it.
     "function_detergent": "goal not met: inside(cleanser, yellow_bowl)",
 }
 
