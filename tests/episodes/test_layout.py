@@ -48,3 +48,12 @@ def test_long_objects_keep_a_hands_room_from_taller_neighbours(
     else:
         with pytest.raises(ValueError, match="overlaps"):
             check_layout(objects)
+
+
+def test_beyond_a_long_objects_end_the_hands_thickness_is_enough() -> None:
+    # The banana lies along x; the hand closes across y, so a basket off its end (x) meets
+    # only the hand's 6 cm thickness: 5 cm is room enough there, unlike across its width.
+    half_len = object_kind("banana").size[0] / 2
+    basket_half = object_kind("basket").size[0] / 2
+    x = basket_half + 0.05 + half_len
+    check_layout([_table(), _obj("basket", "basket", 0.0), _obj("banana", "banana", x)])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 
 import numpy as np
@@ -115,17 +116,23 @@ def _hand_room(obj: EpisodeObject, neighbour: EpisodeObject) -> float:
     """Room (m) a top-down hand needs beside ``obj`` on the side of a taller ``neighbour``.
 
     The Panda hand is 0.2 m long along its fingers' closing axis and 6 cm thick across it.
-    A long object must be closed on across its narrow side, so the hand's length lies towards
-    any neighbour: :data:`HAND_CLEARANCE`. An object that fits the open hand lets it turn
-    its thickness to the neighbour (to grasp or to push it): :data:`PALM_CLEARANCE`. Rim-held
-    bowls and mugs are held from whichever side is free.
+    A long object must be closed on across its narrow side, so the hand's length points at a
+    neighbour lying across that side: :data:`HAND_CLEARANCE`. Beside its length, or beside an
+    object that fits the open hand (the hand turns its thickness to the neighbour, to grasp or
+    to push it): :data:`PALM_CLEARANCE`. Rim-held bowls and mugs are held from a free side.
     """
     kind, other = object_kind(obj.kind), object_kind(neighbour.kind)
     if not kind.graspable or not kind.movable or kind.name in RIM_GRASPED:
         return 0.0
     if other.size[2] <= kind.size[2]:
         return 0.0
-    return HAND_CLEARANCE if max(kind.size[:2]) > GRIPPER_SPAN else PALM_CLEARANCE
+    if max(kind.size[:2]) <= GRIPPER_SPAN:
+        return PALM_CLEARANCE
+    narrow = math.radians(obj.yaw_deg) + (0.0 if kind.size[0] < kind.size[1] else math.pi / 2)
+    offset = np.array(neighbour.pos[:2]) - np.array(obj.pos[:2])
+    across = abs(float(offset @ [math.cos(narrow), math.sin(narrow)]))
+    along = abs(float(offset @ [-math.sin(narrow), math.cos(narrow)]))
+    return HAND_CLEARANCE if across > along else PALM_CLEARANCE
 
 
 def _gap(a: EpisodeObject, b: EpisodeObject) -> float:
