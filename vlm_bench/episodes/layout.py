@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections import Counter
 
 import numpy as np
@@ -128,10 +127,9 @@ def _hand_room(obj: EpisodeObject, neighbour: EpisodeObject) -> float:
         return 0.0
     if max(kind.size[:2]) <= GRIPPER_SPAN:
         return PALM_CLEARANCE
-    narrow = math.radians(obj.yaw_deg) + (0.0 if kind.size[0] < kind.size[1] else math.pi / 2)
-    offset = np.array(neighbour.pos[:2]) - np.array(obj.pos[:2])
-    across = abs(float(offset @ [math.cos(narrow), math.sin(narrow)]))
-    along = abs(float(offset @ [-math.sin(narrow), math.cos(narrow)]))
+    dx, dy = neighbour.pos[0] - obj.pos[0], neighbour.pos[1] - obj.pos[1]
+    lx, ly = rotate_xy(dx, dy, -obj.yaw_deg)  # the neighbour in the object's frame
+    across, along = (abs(lx), abs(ly)) if kind.size[0] < kind.size[1] else (abs(ly), abs(lx))
     return HAND_CLEARANCE if across > along else PALM_CLEARANCE
 
 

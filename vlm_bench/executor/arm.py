@@ -195,9 +195,8 @@ class Arm:
                 radial.append(move)
         radial.sort(key=lambda m: float(np.linalg.norm(m)))
         level = [move + dz for move in radial for dz in BASE_ASSIST[:2]]
-        climbs = [np.zeros(3) + lift for lift in CLIMBS]
-        climbs += [move + lift for lift in CLIMBS for move in radial]
-        return [*BASE_ASSIST, *level, *climbs]
+        climbs = [move + lift for lift in CLIMBS for move in radial]
+        return [*BASE_ASSIST, *level, *CLIMBS, *climbs]
 
     def shift_base(self, delta: Vec) -> None:
         """Fly the UAV's setpoint by ``delta`` (m, world) and let it settle."""
@@ -271,6 +270,12 @@ class Arm:
                 if (g1 in fingers and g2 in geoms) or (g2 in fingers and g1 in geoms):
                     hit[side] = True
         return hit["l"] and hit["r"]
+
+    def outward_axis(self, body: str) -> Vec:
+        """``body``'s x axis made horizontal and unit (a cabinet's front normal), world."""
+        axis: Vec = np.array(self.loop.data.body(body).xmat).reshape(3, 3)[:, 0]
+        axis[2] = 0.0
+        return axis / float(np.linalg.norm(axis))
 
     def body_geoms(self, body: str) -> set[int]:
         """Geoms of ``body`` and its children."""

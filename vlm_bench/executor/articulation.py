@@ -75,11 +75,8 @@ class Articulator:
 
     def _handle(self, part: PartRef) -> tuple[Vec, Vec]:
         """The handle's grasp point and the drawer's outward axis (horizontal, world)."""
-        data = self.loop.data
-        point = np.array(data.site(part_handle_site(part.id)).xpos)
-        axis = np.array(data.body(part.parent).xmat).reshape(3, 3)[:, 0]
-        axis[2] = 0.0
-        return point, axis / np.linalg.norm(axis)
+        point = np.array(self.loop.data.site(part_handle_site(part.id)).xpos)
+        return point, self.arm.outward_axis(part.parent)
 
     def _handle_geoms(self, part: PartRef) -> set[int]:
         """The drawer's bar handle and its posts: all the hand may touch of it."""

@@ -210,7 +210,7 @@ class Grasper:
         things inside it (a basket, a bowl; not a plate or a drawer) and is deeper than the
         object is tall (a tall bottle dropped in topples out over the rim)."""
         kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
-        if kind is None or not kind.container or kind.support:
+        if not _is_vessel(kind):
             return False
         model, data = self.loop.model, self.loop.data
         hlo, hhi = object_bounds(model, data, held, solid_only=True)
@@ -224,9 +224,7 @@ class Grasper:
         part = next((p for p in episode.parts if p.id == dest and p.kind == "drawer"), None)
         if part is None:
             return None
-        axis = np.array(self.loop.data.body(part.parent).xmat).reshape(3, 3)[:, 0]
-        axis[2] = 0.0
-        axis /= np.linalg.norm(axis)
+        axis = self.arm.outward_axis(part.parent)
         base = self.loop.data.body(c.ARM_BASE_BODY).xpos
         hover = [
             np.append(release[:2] + axis[:2] * out, release[2] + depth) - base
@@ -249,25 +247,23 @@ class Grasper:
         """TCP position that sets the held object down 2 cm above its resting place."""
         loop = self.loop
         lo, hi = object_bounds(loop.model, loop.data, dest, solid_only=True)
-        centre = (lo + hi) / 2
-        kinds = {o.id: object_kind(o.kind) for o in episode.objects}
-        kind = kinds.get(dest)
-        if kind is not None and kind.container and not kind.support:
+        kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
+        if _is_vessel(kind):
             rest = float(lo[2]) + CONTAINER_FLOOR
         elif kind is None:  # a drawer: its floor is the body origin's height
             rest = float(loop.data.body(dest).xpos[2])
         else:
             rest = float(hi[2])
-        x, y = self._beside_contents(episode, dest, held, centre[:2], lo, hi)
+        x, y = self._beside_contents(episode, dest, held, lo, hi)
         return np.array([x, y, rest + self._hang(held) + 0.02])
 
     def _beside_contents(
-        self, episode: Episode, dest: str, held: str, xy: Vec, lo: Vec, hi: Vec
+        self, episode: Episode, dest: str, held: str, lo: Vec, hi: Vec
     ) -> tuple[float, float]:
-        """Release x, y moved off what already lies in the destination (a second object into
-        the same basket): of a grid of points keeping the held object inside, the nearest to
-        ``xy`` where it clears the contents' boxes, else the one farthest from them (walls
-        are for the hand's planning to clear)."""
+        """Release x, y in the destination spanning [lo, hi]: its centre, or off what already
+        lies there (a second object into the same basket): of a grid of points keeping the
+        held object inside, the nearest to the centre where it clears the contents' boxes,
+        else the one farthest from them (walls are for the hand's planning to clear)."""
         model, data = self.loop.model, self.loop.data
         boxes = []
         for o in episode.objects:
@@ -278,8 +274,9 @@ class Grasper:
             within = np.all(lo[:2] <= mid[:2]) and np.all(mid[:2] <= hi[:2])
             if within and lo[2] - 0.01 <= olo[2] < hi[2]:  # in it, not what it stands on
                 boxes.append((mid[:2], float(np.max(ohi[:2] - olo[:2])) / 2))
+        centre = (lo[:2] + hi[:2]) / 2
         if not boxes:
-            return float(xy[0]), float(xy[1])
+            return float(centre[0]), float(centre[1])
         hlo, hhi = object_bounds(model, data, held, solid_only=True)
         held_half = float(np.max(hhi[:2] - hlo[:2])) / 2
         half = (hi[:2] - lo[:2]) / 2
@@ -287,18 +284,23 @@ class Grasper:
         # The hand, 0.2 m long, lies along the longer side: it must stay clear of the walls.
         long = int(np.argmax(half))
         slack[long] = min(slack[long], max(0.0, half[long] - HAND_HALF))
-        centre = (lo[:2] + hi[:2]) / 2
         steps = np.linspace(-1.0, 1.0, 7)
-        best, best_key = xy, (-1.0, -math.inf, 0.0)
+        best, best_key = centre, (-1.0, -math.inf, 0.0)
         for fx in steps:
             for fy in steps:
                 p = centre + slack * np.array([fx, fy])
                 room = min(float(np.linalg.norm(p - m)) - r for m, r in boxes)
                 fits = room >= held_half + 0.015
-                key = (float(fits), 0.0 if fits else room, -float(np.linalg.norm(p - xy)))
+                key = (float(fits), 0.0 if fits else room, -float(np.linalg.norm(p - centre)))
                 if key > best_key:
                     best, best_key = p, key
         return float(best[0]), float(best[1])
+
+
+def _is_vessel(kind: ObjectKind | None) -> bool:
+    """Whether objects go inside ``kind`` (a basket, a bowl), rather than on it (a plate) or
+    into a part (``None``: a drawer)."""
+    return kind is not None and kind.container and not kind.support
 
 
 def grasp_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
