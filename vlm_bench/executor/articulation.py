@@ -19,14 +19,13 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, Arm
+from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, MIN_MARGIN, Arm
 from vlm_bench.executor.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
 from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.constants import part_handle_site, part_joint
-from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.episode import Episode, PartRef
 from vlm_bench.types.plan import ArmStep
 
@@ -36,7 +35,7 @@ PULL_MIN = 0.35  # m: a pull counts from this opening
 CLOSED_MAX = 0.02  # m: a close counts below this opening
 PRE_HANDLE = 0.10  # m in front of the handle where the straight approach starts
 SLIDE_SPEED = 0.10  # m/s
-TURN_DEG = 105.0  # knob turn commanded (SPEC ≥ 90°)
+TURN_DEG = 115.0  # knob turn commanded (SPEC ≥ 90°; the grip slips 10-16° of it)
 TURN_MIN_DEG = 90.0
 KNOB_GRIP_DEPTH = 0.022  # m below the knob's top where the fingers hold it
 TURN_S = 3.0  # s for the turn
@@ -44,6 +43,7 @@ RETREAT = 0.08  # m the open hand backs off the handle at least...
 CLEAR_OF_HANDLE = 0.50  # m: ...and until the arm base is this far (horizontally) from it
 STROKE_FRACTIONS = (1.0, 0.75, 0.5, 0.25)  # of a slide, tried for the arm's own stroke
 BACK_ASSIST = (0.0, 0.1, 0.2)  # m the UAV may back away from a handle before grasping it
+STROKE_JOINT_SPEED = 1.0  # rad/s: the fastest joint an arm's own slide may need
 
 
 class Articulator:
@@ -125,11 +125,9 @@ class Articulator:
         arm = self.arm
         start, axis = self._handle(part)
         end = start + axis * distance
-        stroke = self._stroke(part, start, axis * distance, rot)
-        if stroke is not None:
-            reach, q_reach = stroke
-            seconds = max(1.5, float(np.linalg.norm(reach - start)) / SLIDE_SPEED)
-            arm.line(start, reach, rot, seconds, c.GRIPPER_CLOSED, q_reach)
+        reach = self._stroke(part, start, axis * distance, rot)
+        if reach is not None:
+            arm.line(start, reach, rot, _slide_seconds(reach - start), c.GRIPPER_CLOSED)
         rest = float(np.dot(end - arm.tcp()[0], axis * math.copysign(1.0, distance)))
         if rest > 0.01:
             step = axis * math.copysign(rest, distance)
@@ -137,21 +135,31 @@ class Articulator:
             return step
         return np.zeros(3)
 
-    def _stroke(self, part: PartRef, start: Vec, travel: Vec, rot: Vec) -> tuple[Vec, Vec] | None:
-        """The longest part of the slide (all, ¾, ½ or ¼ of ``travel``) the arm makes on its
-        own: its end and joint angles there, where IK reaches it and the joint-space sweep
-        touches nothing but the handle (a long pull can fold the elbow into the drawer's
-        front). ``None``: the UAV carries the whole slide."""
-        arm, loop = self.arm, self.loop
+    def _stroke(self, part: PartRef, start: Vec, travel: Vec, rot: Vec) -> Vec | None:
+        """The end of the longest part of the slide (all, ¾, ½ or ¼ of ``travel``) the arm
+        makes on its own: where IK follows the whole line (previewed step by step) with no
+        joint faster than :data:`STROKE_JOINT_SPEED`, none within :data:`MIN_MARGIN` of its
+        limit, and nothing but the handle touched. Near its limits a long pull whips the base
+        joint round and twists the bar out of the fingers, or folds the elbow into the
+        drawer's front. ``None``: the UAV carries the whole slide."""
+        arm, data = self.arm, self.loop.data
         handle = self._handle_geoms(part)
-        now = arm_qpos(loop.model, loop.data)
         for frac in STROKE_FRACTIONS:
             end = start + travel * frac
-            q_end, res = arm.ik.solve(loop.data, end, rot, now)
-            if res > IK_OK:
+            postures = arm.preview_line(start, end, rot, _slide_seconds(end - start))
+            if postures is None:
                 continue
-            if not arm.path_hits(now, q_end, handle, c.GRIPPER_CLOSED, np.zeros(3)):
-                return end, q_end
+            q = np.array(postures)
+            speeds = np.abs(np.diff(q, axis=0)) / c.CONTROL_DT
+            if speeds.size and float(speeds.max()) > STROKE_JOINT_SPEED:
+                continue
+            if min(arm.ik.limit_margin(p) for p in postures) < MIN_MARGIN:
+                continue
+            checked = [*postures[:: max(1, len(postures) // 8)], postures[-1]]
+            zero = np.zeros(3)
+            if any(arm.ik.collisions(data, p, handle, c.GRIPPER_CLOSED, zero) for p in checked):
+                continue
+            return end
         return None
 
     def _let_go(self, axis: Vec, back: Vec, return_xy: bool = True) -> None:
@@ -268,6 +276,11 @@ class Articulator:
         poses = ((grip, top_down_rotation(heading + turn * i / n)) for i in range(1, n + 1))
         if self.arm.follow(poses, c.GRIPPER_CLOSED):
             self.loop.hold(0.3)
+
+
+def _slide_seconds(travel: Vec) -> float:
+    """Duration (s) of the arm's own slide over ``travel`` (m)."""
+    return max(1.5, float(np.linalg.norm(travel)) / SLIDE_SPEED)
 
 
 def articulation_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
