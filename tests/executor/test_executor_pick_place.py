@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.arm import Arm
 from vlm_bench.executor.executor import _Run, execute_plan
@@ -57,3 +59,23 @@ def test_planning_checks_the_held_object_too() -> None:
     carried = arm.ik.collisions(scene.data, q, held, c.GRIPPER_CLOSED, None, arm.carried())
     assert not table_geoms & set(bare)
     assert table_geoms & set(carried)
+
+
+def test_an_object_lost_on_the_way_to_the_release_fails_the_place(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Physics honesty: a place whose object drops out of the fingers on the way (here the
+    gripper is made to open during the move) fails as slipped, not as a placed object."""
+    from vlm_bench.executor import grasping
+
+    episode = make_episode("standard_pick_place", 0)
+    moves = grasping.joint_move
+
+    def loose(loop: SimLoop, goal: object, seconds: float, gripper: float, *rest: float) -> None:
+        moves(loop, goal, seconds, c.GRIPPER_OPEN, *rest)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(grasping, "joint_move", loose)
+    result = execute_plan(episode, episode.gt_plan)
+    assert [s.status for s in result.steps] == ["ok", "ok", "failed"]
+    assert result.failure_reason == "step 2: gray_cube slipped from the gripper"
+    assert result.goals == (False,)

@@ -74,3 +74,29 @@ def test_bowl_is_held_by_its_rim_closing_radially() -> None:
         assert np.linalg.norm(cand.point[:2]) == pytest.approx(0.08 - RIM_INSET)
         for axis in _closing_axes(cand.rotations):
             assert abs(float(axis[:2] @ radial)) == pytest.approx(1.0)
+
+
+def test_a_curved_banana_is_held_on_its_middle_not_its_bounding_box() -> None:
+    """Yawed 19°, the banana's world bounding box is centred 1.4 cm off its body axis and
+    2.3 cm off the middle of the arc; the fingers (1 cm clear each side) must close on the
+    middle section: the grasp is centred on the collision geoms between them."""
+    from vlm_bench.episodes.generate import make_episode
+    from vlm_bench.executor.grasping import Grasper
+    from vlm_bench.executor.loop import SimLoop
+    from vlm_bench.sim.objects.bounds import object_bounds
+    from vlm_bench.sim.objects.groceries import _banana_axis
+    from vlm_bench.sim.scene import build_scene
+
+    episode = make_episode("drawer_interaction", 1)
+    scene = build_scene(episode)
+    grasper = Grasper(SimLoop(scene))
+    body = scene.data.body("banana")
+    rot = np.array(body.xmat).reshape(3, 3)
+    kind = object_kind("banana")
+    lo, hi = object_bounds(scene.model, scene.data, "banana", solid_only=True)
+    (cand,) = grasp_points(kind, np.array(body.xpos), math.atan2(rot[1, 0], rot[0, 0]), lo, hi)
+    point = grasper._on_section("banana", cand.point, cand.rotations[0])
+    rings = _banana_axis(*kind.size)
+    middle_y = rings[len(rings) // 2][0][1]  # the arc's middle, across the banana (body frame)
+    assert abs(float((rot.T @ (cand.point - body.xpos))[1]) - middle_y) > 0.015  # the box's
+    assert float((rot.T @ (point - body.xpos))[1]) == pytest.approx(middle_y, abs=0.003)

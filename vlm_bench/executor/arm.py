@@ -26,6 +26,8 @@ BASE_ASSIST = tuple(np.array([0.0, 0.0, dz]) for dz in (0.0, -0.06, -0.12))
 MAX_ASSIST = 0.35  # m, horizontal: a skill adjusts the UAV, it does not fly to the object
 MIN_MARGIN = 0.05  # rad from the joint limits for a plan to count as clear
 SWING_BIN = 0.5  # rad: plans whose widest joint swing differs by less are equally good
+HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts as a contact
+# (a bottle hung by its cap slipped out of the fingers in a 4.9 rad turn of the base joint)
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
@@ -93,7 +95,8 @@ class Arm:
         its joint-space moves (now to the start, start to end) with the held object carried,
         and the plans compared by contacts on the way, then by the widest joint swing from
         now (a wide swing can fling a held object), then by the margin from the joint limits
-        (under :data:`MIN_MARGIN` counts as a contact: a servo at its limit strays off the plan).
+        (under :data:`MIN_MARGIN` counts as a contact: a servo at its limit strays off the plan;
+        so does a swing over :data:`HELD_SWING` with an object in the hand).
         Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
         (tried in order; default :meth:`assists`); the best plan over all is returned.
         """
@@ -122,7 +125,10 @@ class Arm:
                     margin = min(self.ik.limit_margin(q_start), self.ik.limit_margin(q_end))
                     if margin < MIN_MARGIN:  # servos at a joint limit stray off the plan
                         hits += 1
-                    swing = round(float(np.max(np.abs(q_start - now))) / SWING_BIN)
+                    widest = float(np.max(np.abs(q_start - now)))
+                    if carried is not None and widest > HELD_SWING:
+                        hits += 1
+                    swing = round(widest / SWING_BIN)
                     key = (float(hits), float(swing), -margin)
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
@@ -212,6 +218,20 @@ class Arm:
         slow = flight.model_copy(update={"speed": min(speed, flight.speed), "accel": 0.25})
         target = np.array(self.loop.controller.setpoint) + np.asarray(delta)
         fly_to(self.loop, target, slow)
+
+    def preview_line(self, start: Vec, end: Vec, rotation: Vec, seconds: float) -> list[Vec] | None:
+        """The postures :meth:`line` (without ``q_end``) would command from the arm's posture
+        now, one per control step, solved offline; ``None`` where IK loses the line."""
+        n = max(2, round(seconds / c.CONTROL_DT))
+        q = arm_qpos(self.loop.model, self.loop.data)
+        out = []
+        for i in range(1, n + 1):
+            point = start + (end - start) * min_jerk(i / n)
+            q, res = self.ik.solve(self.loop.data, point, rotation, q, iterations=60)
+            if res > 3 * IK_OK:
+                return None
+            out.append(q)
+        return out
 
     def line(
         self,

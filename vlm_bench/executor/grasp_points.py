@@ -35,10 +35,13 @@ MUG_RIM_ANGLES = (180.0, 135.0, 225.0, 90.0, 270.0)  # deg from the handle, best
 
 @dataclass(frozen=True)
 class GraspPoint:
-    """A TCP position and the orientations the hand may take there."""
+    """A TCP position and the orientations the hand may take there; ``centre_across``: the
+    fingers close on whatever cross-section of the object lies between them, so the point is
+    to be centred on it (a curved banana's middle is not its bounding box's)."""
 
     point: Vec
     rotations: tuple[Vec, ...]
+    centre_across: bool = False
 
 
 def _headings(base: float, n: int) -> tuple[Vec, ...]:
@@ -96,4 +99,4 @@ def grasp_points(
     if com is not None:
         axis = np.array([math.cos(along), math.sin(along)])
         centre[:2] += axis * float(np.dot(np.asarray(com)[:2] - centre[:2], axis))
-    return [GraspPoint(centre, _headings(along, 2))]
+    return [GraspPoint(centre, _headings(along, 2), centre_across=True)]

@@ -22,7 +22,8 @@ from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import HELD_JOINT_SPEED, hold_with_gripper, joint_move
 from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
-from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.sim.constants import part_joint
+from vlm_bench.sim.objects.bounds import geom_bounds, object_bounds, subtree_geoms
 from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
@@ -33,6 +34,7 @@ PRE_GRASP = 0.12  # m above the grasp point
 LIFT = 0.15  # m
 MIN_LIFT = 0.08  # m the object must rise for a pick to count
 CARRY_DEPTH = 0.30  # m below the arm base: a held object's TCP height in flight
+SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasped section
 HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
 RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (an arm stretched
@@ -75,9 +77,14 @@ class Grasper:
         fallback = None
         com = np.array(body.xipos)
         for cand in grasp_points(kind, np.array(body.xpos), yaw, lo, hi, com):
+            point = (
+                self._on_section(obj, cand.point, cand.rotations[0])
+                if cand.centre_across
+                else cand.point
+            )
             approach = np.array([0.0, 0.0, PRE_GRASP])
             sol = self.arm.plan(
-                cand.point,
+                point,
                 approach,
                 cand.rotations,
                 ignore,
@@ -87,9 +94,28 @@ class Grasper:
             if sol is None:
                 continue
             if sol.hits == 0:
-                return sol, cand.point
-            fallback = fallback or (sol, cand.point)
+                return sol, point
+            fallback = fallback or (sol, point)
         return fallback
+
+    def _on_section(self, obj: str, point: Vec, rotation: Vec) -> Vec:
+        """``point`` moved across (along the hand's closing axis, ``rotation``'s y) to the
+        middle of ``obj``'s solid cross-section between the fingers: of its collision geoms
+        centred within :data:`SECTION_HALF` of the point along the hand's x axis."""
+        model, data = self.loop.model, self.loop.data
+        along, across = rotation[:, 0].copy(), rotation[:, 1].copy()
+        along[2] = across[2] = 0.0
+        lo, hi = math.inf, -math.inf
+        for g in subtree_geoms(model, model.body(obj).id, solid_only=True):
+            glo, ghi = geom_bounds(model, data, g)
+            mid, half = (glo + ghi) / 2, (ghi - glo) / 2
+            if abs(float(np.dot(mid - point, along))) > SECTION_HALF:
+                continue
+            c, h = float(np.dot(mid - point, across)), float(np.dot(half, np.abs(across)))
+            lo, hi = min(lo, c - h), max(hi, c + h)
+        if lo > hi:
+            return point
+        return point + across * (lo + hi) / 2
 
     def touching_fingers(self, obj: str) -> bool:
         """Whether both fingers touch ``obj``."""
@@ -120,6 +146,7 @@ class Grasper:
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
         z0 = float(loop.data.body(obj).xpos[2])
+        bottom = self._bottom(obj)
         if not arm.line(grasp, grasp + np.array([0.0, 0.0, LIFT]), rot, 1.5, c.GRIPPER_CLOSED):
             return "cannot lift: out of reach"
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
@@ -127,18 +154,38 @@ class Grasper:
             return f"grasp of {obj} failed"
         loop.held = obj
         self._raise_to_carry(rot, c.GRIPPER_CLOSED)
-        arm.shift_base(-shift)
+        # Undo the UAV's move, but a climb only as far as the held object stays MIN_LIFT
+        # above where it lay: lowered with the arm unable to raise it, it lands on the table.
+        undo = -np.asarray(shift, dtype=np.float64)
+        undo[2] = max(undo[2], min(0.0, bottom + MIN_LIFT - self._bottom(obj)))
+        arm.shift_base(undo)
         return None
+
+    def _bottom(self, obj: str) -> float:
+        """Height of ``obj``'s lowest solid point (m)."""
+        lo, _ = object_bounds(self.loop.model, self.loop.data, obj, solid_only=True)
+        return float(lo[2])
 
     def _raise_to_carry(self, rot: Vec, gripper: float) -> None:
         """Lift the hand straight up until the TCP is :data:`CARRY_DEPTH` below the arm base
         (or as high as the arm follows). Holding an object, UAV moves carry it there rather
         than stowed, where a bulky object would be folded against the arm and knocked out of
         the fingers; empty, the stow then starts clear of what the hand just let go of."""
-        tcp, _ = self.arm.tcp()
-        top = float(self.loop.data.body(c.ARM_BASE_BODY).xpos[2]) - CARRY_DEPTH
-        if tcp[2] < top:
-            self.arm.line(tcp, np.array([tcp[0], tcp[1], top]), rot, 1.0, gripper)
+        arm, loop = self.arm, self.loop
+        tcp, _ = arm.tcp()
+        top = float(loop.data.body(c.ARM_BASE_BODY).xpos[2]) - CARRY_DEPTH
+        if tcp[2] >= top:
+            return
+        goal = np.array([tcp[0], tcp[1], top])
+        if arm.line(tcp, goal, rot, 1.0, gripper):
+            return
+        # The straight line left IK's branch (an arm stretched far down folds up only by
+        # swinging its elbow): a checked joint-space move from where it stopped instead.
+        held = arm.body_geoms(loop.held) if loop.held is not None else set()
+        now = arm_qpos(loop.model, loop.data)
+        sol = arm.plan(goal, np.zeros(3), [rot], held, gripper, now, [np.zeros(3)])
+        if sol is not None and sol.hits == 0:
+            joint_move(loop, sol.q_end, 1.5, gripper, HELD_JOINT_SPEED)
 
     def place(self, episode: Episode, step: ArmStep) -> str | None:
         """Lower the held object onto/into ``step.object`` and release it."""
@@ -194,6 +241,9 @@ class Grasper:
         # line (into a deep drawer) can leave IK's branch and swing the forearm into a rim.
         joint_move(loop, sol.q_end, 1.5, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
+        if not self.touching_fingers(held):
+            loop.held = None
+            return f"{held} slipped from the gripper"
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
             return f"{dest} is out of reach"
         hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
@@ -252,10 +302,29 @@ class Grasper:
             rest = float(lo[2]) + CONTAINER_FLOOR
         elif kind is None:  # a drawer: its floor is the body origin's height
             rest = float(loop.data.body(dest).xpos[2])
+            lo, hi = self._exposed(episode, dest, lo, hi)
         else:
             rest = float(hi[2])
         x, y = self._beside_contents(episode, dest, held, lo, hi)
         return np.array([x, y, rest + self._hang(held) + 0.02])
+
+    def _exposed(self, episode: Episode, drawer: str, lo: Vec, hi: Vec) -> tuple[Vec, Vec]:
+        """The part of an open drawer's bounds [lo, hi] out in front of its cabinet: from the
+        front panel's inner face back by the opening (the rest lies under the cabinet's top,
+        where no hand reaches down). The cabinet faces along a world axis (fixed furniture
+        is set square)."""
+        model, data = self.loop.model, self.loop.data
+        parent = next(p.parent for p in episode.parts if p.id == drawer)
+        axis = self.arm.outward_axis(parent)
+        k = int(np.argmax(np.abs(axis[:2])))
+        sign = math.copysign(1.0, float(axis[k]))
+        flo, fhi = geom_bounds(model, data, model.geom(f"{drawer}/front").id)
+        inner = float(flo[k] if sign > 0 else fhi[k])
+        opening = float(data.qpos[model.joint(part_joint(drawer)).qposadr[0]])
+        a, b = sorted((inner, inner - sign * opening))
+        lo, hi = lo.copy(), hi.copy()
+        lo[k], hi[k] = max(float(lo[k]), a), min(float(hi[k]), b)
+        return lo, hi
 
     def _beside_contents(
         self, episode: Episode, dest: str, held: str, lo: Vec, hi: Vec
