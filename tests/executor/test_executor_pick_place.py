@@ -79,3 +79,23 @@ def test_an_object_lost_on_the_way_to_the_release_fails_the_place(
     assert [s.status for s in result.steps] == ["ok", "ok", "failed"]
     assert result.failure_reason == "step 2: gray_cube slipped from the gripper"
     assert result.goals == (False,)
+
+
+def test_a_held_object_is_carried_clear_of_what_the_flight_stops_at() -> None:
+    """store_and_close seed 3: the cube, hanging where the pick lifted it, led the flight
+    back to the open drawer and pushed it from 0.35 to 0.12 m shut. The arm now turns it
+    aside first; the drawer stays open and the cube goes in (released over the part of the
+    drawer out in front of the cabinet)."""
+    from vlm_bench.sim.constants import part_joint
+
+    episode = make_episode("store_and_close", 3)
+    scene = build_scene(episode)
+    loop = SimLoop(scene)
+    run = _Run(episode, loop, default_skills(loop))
+    joint = scene.model.joint(part_joint("top_drawer")).qposadr[0]
+    for i, step in enumerate(episode.gt_plan[:4]):  # fly, pick, climb, fly back to the cabinet
+        assert run.step(i, step, episode.gt_plan).status == "ok"
+    assert loop.held == "rubiks_cube"
+    assert float(scene.data.qpos[joint]) > 0.34
+    outcome = run.step(4, episode.gt_plan[4], episode.gt_plan)  # place in the drawer
+    assert outcome.status == "ok", outcome.reason

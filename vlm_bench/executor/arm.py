@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from vlm_bench.executor.ik import SEED_POSTURES, ArmIk, Carried
 from vlm_bench.executor.loop import SimLoop
-from vlm_bench.executor.motion import min_jerk
+from vlm_bench.executor.motion import HELD_JOINT_SPEED, joint_move, min_jerk
 from vlm_bench.executor.uav_move import fly_to
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.base import free_joint_name
@@ -31,6 +31,9 @@ HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts a
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
+FLIGHT_STEP = 0.05  # m between the collision checks of a flight with an object in the hand
+CARRY_TURNS = tuple(sign * turn for turn in (0.4, 0.8, 1.2, 1.6) for sign in (1.0, -1.0))
+"""Turns of the arm's base joint (rad) tried to carry a held object clear of a flight's way."""
 WORK_RADII = (0.36, 0.46, 0.56)
 """Horizontal distances (m) from the arm base where top-down reaches keep far from the joint
 limits, for the points the stand-off leaves 0.45-0.75 m below the base (from a reach scan)."""
@@ -175,6 +178,35 @@ class Arm:
             offset=rot.T @ (np.array(body.xpos) - tcp),
             rotation=rot.T @ np.array(body.xmat).reshape(3, 3),
         )
+
+    def clear_for_flight(self, travel: Vec) -> None:
+        """Before the UAV flies ``travel`` (m, world) with an object in the hand: where the
+        object, carried as it hangs now, would meet something on the way (a drawer's front
+        the flight stops at), turn the arm's base joint, smallest turn first, to a posture
+        from which the whole flight is clear."""
+        carried = self.carried()
+        if carried is None:
+            return
+        data = self.loop.data
+        n = max(1, math.ceil(float(np.linalg.norm(travel)) / FLIGHT_STEP))
+        ways = [np.asarray(travel) * k / n for k in range(n + 1)]
+
+        def clear(q: Vec) -> bool:
+            return not any(self.ik.collisions(data, q, set(), None, b, carried) for b in ways)
+
+        now = arm_qpos(self.loop.model, data)
+        if clear(now):
+            return
+        for turn in CARRY_TURNS:
+            q = now.copy()
+            q[0] += turn
+            if self.ik.limit_margin(q) < MIN_MARGIN:
+                continue
+            if clear(q) and not self.path_hits(
+                now, q, set(), c.GRIPPER_CLOSED, np.zeros(3), carried
+            ):
+                joint_move(self.loop, q, 1.0, None, HELD_JOINT_SPEED)
+                return
 
     def back_off(self, point: Vec, within: float, to: float) -> Vec | None:
         """The horizontal UAV move that puts ``point`` ``to`` m (horizontally) from the arm

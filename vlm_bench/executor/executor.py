@@ -14,6 +14,7 @@ from typing import Literal
 import numpy as np
 
 from vlm_bench.catalog.world import object_kind
+from vlm_bench.executor.arm import Arm
 from vlm_bench.executor.goals import check_goals, describe_goal
 from vlm_bench.executor.loop import ArmSkill, SimLoop, SimulatorUnstable
 from vlm_bench.executor.references import StepReferences
@@ -42,16 +43,25 @@ def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
     return next((s for s in plan[index + 1 :] if isinstance(s, ArmStep)), None)
 
 
-def run_move(loop: SimLoop, refs: StepReferences, step: UavStep, arm: ArmStep | None) -> None:
+def run_move(
+    loop: SimLoop,
+    refs: StepReferences,
+    step: UavStep,
+    arm: ArmStep | None,
+    carrier: Arm | None = None,
+) -> None:
     """Fly ``step``, stopping for ``arm``, the next ARM step, if any. The arm is stowed first
     unless it holds something: folding a held object up against the arm knocks it out of the
-    fingers, so it is carried where the pick lifted it."""
+    fingers, so it is carried where the pick lifted it, turned aside (by ``carrier``, the
+    arm's planner) where it would meet something on the way."""
     ref = refs(loop.data, arm.object, arm.skill, loop.held) if arm else None
     flight = loop.config.flight
     if loop.held is None:
         stow_arm(loop, flight)
     start = loop.controller.setpoint.copy()
     target = move_target(start, refs.episode.uav_start.yaw_deg, step, ref)
+    if loop.held is not None and carrier is not None:
+        carrier.clear_for_flight(target - start)
     fly_to(loop, target, flight)
 
 
@@ -90,6 +100,13 @@ class _Run:
         self.loop = loop
         self.refs = StepReferences(episode, loop.model)
         self.skills = skills
+        self._carrier: Arm | None = None
+
+    def carrier(self) -> Arm:
+        """The arm's planner for flights with an object in the hand (made when first needed)."""
+        if self._carrier is None:
+            self._carrier = Arm(self.loop)
+        return self._carrier
 
     def arm_step(self, step: ArmStep) -> tuple[str | None, ArmTrace]:
         loop = self.loop
@@ -127,7 +144,8 @@ class _Run:
         arm: ArmTrace | None = None
         try:
             if isinstance(step, UavStep):
-                run_move(loop, self.refs, step, next_arm_step(plan, index))
+                carrier = self.carrier() if loop.held is not None else None
+                run_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
                 reason = None
             else:
                 reason, arm = self.arm_step(step)

@@ -229,6 +229,7 @@ class Grasper:
                 ignore,
                 c.GRIPPER_CLOSED,
                 arm_qpos(loop.model, loop.data),
+                self._drawer_assists(episode, dest, drop),
             )
             if high is not None and (sol is None or high.hits < sol.hits):
                 sol, release = high, drop
@@ -257,15 +258,20 @@ class Grasper:
 
     def _can_drop_into(self, episode: Episode, held: str, dest: str) -> bool:
         """Whether ``held`` may be dropped into ``dest`` from above its rim: ``dest`` holds
-        things inside it (a basket, a bowl; not a plate or a drawer) and is deeper than the
-        object is tall (a tall bottle dropped in topples out over the rim)."""
-        kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
-        if not _is_vessel(kind):
-            return False
+        things inside it (a basket, a bowl, an open drawer's box; not a plate) and is deeper
+        than the object is tall (a tall bottle dropped in topples out over the rim)."""
         model, data = self.loop.model, self.loop.data
+        kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
+        if _is_vessel(kind):
+            lo, hi = object_bounds(model, data, dest, solid_only=True)
+            depth = float(hi[2] - lo[2]) - CONTAINER_FLOOR
+        elif kind is None and any(p.id == dest and p.kind == "drawer" for p in episode.parts):
+            _, wall = geom_bounds(model, data, model.geom(f"{dest}/box_front").id)
+            depth = float(wall[2]) - float(data.body(dest).xpos[2])  # the floor: body origin
+        else:
+            return False
         hlo, hhi = object_bounds(model, data, held, solid_only=True)
-        lo, hi = object_bounds(model, data, dest, solid_only=True)
-        return float(hhi[2] - hlo[2]) < float(hi[2] - lo[2]) - CONTAINER_FLOOR
+        return float(hhi[2] - hlo[2]) < depth
 
     def _drawer_assists(self, episode: Episode, dest: str, release: Vec) -> list[Vec] | None:
         """For a release into an open drawer, UAV moves to hover in front of it, high: the
