@@ -65,16 +65,18 @@ def test_an_object_lost_on_the_way_to_the_release_fails_the_place(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """Physics honesty: a place whose object drops out of the fingers on the way (here the
-    gripper is made to open during the move) fails as slipped, not as a placed object."""
-    from vlm_bench.executor import grasping
+    gripper is made to open as the hand sets off towards the release) fails as slipped, not
+    as a placed object."""
+    from vlm_bench.executor.motion import hold_with_gripper
 
     episode = make_episode("standard_pick_place", 0)
-    moves = grasping.joint_move
+    glide = Arm.glide
 
-    def loose(loop: SimLoop, goal: object, seconds: float, gripper: float, *rest: float) -> None:
-        moves(loop, goal, seconds, c.GRIPPER_OPEN, *rest)  # type: ignore[arg-type]
+    def loose(arm: Arm, *args: object, **kwargs: object) -> bool:
+        hold_with_gripper(arm.loop, 0.5, c.GRIPPER_OPEN)
+        return glide(arm, *args, **kwargs)  # type: ignore[arg-type]
 
-    monkeypatch.setattr(grasping, "joint_move", loose)
+    monkeypatch.setattr(Arm, "glide", loose)
     result = execute_plan(episode, episode.gt_plan)
     assert [s.status for s in result.steps] == ["ok", "ok", "failed"]
     assert result.failure_reason == "step 2: gray_cube slipped from the gripper"

@@ -10,7 +10,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.executor.ik import SEED_POSTURES, ArmIk, Carried
+from vlm_bench.executor.ik import SEED_POSTURES, ArmIk, Carried, top_down_rotation
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.motion import HELD_JOINT_SPEED, joint_move, min_jerk
 from vlm_bench.executor.uav_move import fly_to
@@ -179,14 +179,14 @@ class Arm:
             rotation=rot.T @ np.array(body.xmat).reshape(3, 3),
         )
 
-    def clear_for_flight(self, travel: Vec) -> None:
+    def clear_for_flight(self, travel: Vec) -> bool:
         """Before the UAV flies ``travel`` (m, world) with an object in the hand: where the
         object, carried as it hangs now, would meet something on the way (a drawer's front
         the flight stops at), turn the arm's base joint, smallest turn first, to a posture
-        from which the whole flight is clear."""
+        from which the whole flight is clear. Whether the flight is clear now."""
         carried = self.carried()
         if carried is None:
-            return
+            return True
         data = self.loop.data
         n = max(1, math.ceil(float(np.linalg.norm(travel)) / FLIGHT_STEP))
         ways = [np.asarray(travel) * k / n for k in range(n + 1)]
@@ -196,7 +196,7 @@ class Arm:
 
         now = arm_qpos(self.loop.model, data)
         if clear(now):
-            return
+            return True
         for turn in CARRY_TURNS:
             q = now.copy()
             q[0] += turn
@@ -206,7 +206,8 @@ class Arm:
                 now, q, set(), c.GRIPPER_CLOSED, np.zeros(3), carried
             ):
                 joint_move(self.loop, q, 1.0, None, HELD_JOINT_SPEED)
-                return
+                return True
+        return False
 
     def back_off(self, point: Vec, within: float, to: float) -> Vec | None:
         """The horizontal UAV move that puts ``point`` ``to`` m (horizontally) from the arm
@@ -264,6 +265,39 @@ class Arm:
                 return None
             out.append(q)
         return out
+
+    def glide(
+        self, end: Vec, rotation: Vec, seconds: float, gripper: float, q_end: Vec | None = None
+    ) -> bool:
+        """Carry the hand (pointing down) in a straight line from where it is to ``end``,
+        turning it about the vertical to ``rotation`` on the way and pulling the posture
+        towards ``q_end`` (if given): a joint-space move between two top-down postures tilts
+        the hand midway, and a bottle held by its cap swings out of the fingers. Previewed first
+        with the held object carried; ``False``, nothing moved, where IK loses the path or
+        something would be touched."""
+        start, now_rot = self.tcp()
+        if now_rot[2, 2] > -0.99 or rotation[2, 2] > -0.99:  # not pointing down
+            return False
+        h0 = math.atan2(now_rot[1, 0], now_rot[0, 0])
+        turn = math.remainder(math.atan2(rotation[1, 0], rotation[0, 0]) - h0, 2 * math.pi)
+        n = max(2, round(seconds / c.CONTROL_DT))
+        steps = [min_jerk(i / n) for i in range(1, n + 1)]
+        poses = [(start + (end - start) * s, top_down_rotation(h0 + turn * s)) for s in steps]
+        q0 = arm_qpos(self.loop.model, self.loop.data)
+        goal = q0 if q_end is None else q_end
+        rests = [q0 + (goal - q0) * s for s in steps]
+        data, q, path = self.loop.data, q0, []
+        for (point, rot), rest in zip(poses, rests, strict=True):
+            q, res = self.ik.solve(data, point, rot, q, iterations=60, posture=rest)
+            if res > 3 * IK_OK:
+                return False
+            path.append(q)
+        carried = self.carried()
+        zero = np.zeros(3)
+        checked = [*path[:: max(1, n // 10)], path[-1]]
+        if any(self.ik.collisions(data, p, set(), gripper, zero, carried) for p in checked):
+            return False
+        return self.follow(poses, gripper, rests if q_end is not None else None)
 
     def line(
         self,

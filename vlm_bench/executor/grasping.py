@@ -36,6 +36,10 @@ MIN_LIFT = 0.08  # m the object must rise for a pick to count
 CARRY_DEPTH = 0.30  # m below the arm base: a held object's TCP height in flight
 SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasped section
 HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
+GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
+CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
+SLIP = 0.03  # m a held object may move in the hand on the way to its release (set down
+# on its destination, a tall bottle pushes up between the fingers)
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
 RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (an arm stretched
 # a metre down into a drawer sags 4 cm; farther off, it did not get there)
@@ -155,11 +159,19 @@ class Grasper:
         loop.held = obj
         self._raise_to_carry(rot, c.GRIPPER_CLOSED)
         # Undo the UAV's move, but a climb only as far as the held object stays MIN_LIFT
-        # above where it lay: lowered with the arm unable to raise it, it lands on the table.
+        # above where it lay (lowered with the arm unable to raise it, it lands on the
+        # table), and not at all where it would come down on something (a basket's rim).
         undo = -np.asarray(shift, dtype=np.float64)
         undo[2] = max(undo[2], min(0.0, bottom + MIN_LIFT - self._bottom(obj)))
+        if undo[2] < 0.0 and not arm.clear_for_flight(undo):
+            undo[2] = 0.0
         arm.shift_base(undo)
         return None
+
+    def _in_hand(self, obj: str) -> Vec:
+        """Where ``obj`` is in the hand's frame (m)."""
+        tcp, rot = self.arm.tcp()
+        return rot.T @ (np.array(self.loop.data.body(obj).xpos) - tcp)
 
     def _bottom(self, obj: str) -> float:
         """Height of ``obj``'s lowest solid point (m)."""
@@ -200,13 +212,16 @@ class Grasper:
             return f"{held} slipped from the gripper"
         release = self._release_point(episode, held, dest)
         arm = self.arm
+        grip = self._in_hand(held)
         tcp, rot = arm.tcp()
         clearance = max(0.0, self._top_under(dest) - (release[2] - self._hang(held))) + 0.05
         above = release + np.array([0.0, 0.0, clearance])
         heading = math.atan2(rot[1, 0], rot[0, 0])
         lift_to = np.array([tcp[0], tcp[1], max(tcp[2], above[2])])
         if not arm.line(tcp, lift_to, top_down_rotation(heading), 0.8, c.GRIPPER_CLOSED):
-            return "cannot lift the held object"
+            # The arm cannot raise it that far on its own (folded up under the base): the
+            # UAV climbs the rest, carrying it.
+            arm.shift_base(np.array([0.0, 0.0, max(0.0, lift_to[2] - arm.tcp()[0][2])]))
         ignore = arm.body_geoms(held)
         sol = self._plan_top_down(
             release,
@@ -237,12 +252,26 @@ class Grasper:
             return f"{dest} is out of reach"
         rot, shift = sol.rotation, sol.shift
         arm.shift_base(shift)
-        joint_move(loop, sol.q_start, 2.0, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
+        seconds = max(2.0, float(np.linalg.norm(above - arm.tcp()[0])) / CARRY_SPEED)
+        q_start, q_end = sol.q_start, sol.q_end
+        if arm.glide(above, rot, seconds, c.GRIPPER_CLOSED, sol.q_start):
+            # The glide may end on another branch: the way down planned again from there.
+            now = arm_qpos(loop.model, loop.data)
+            down = arm.plan(
+                release, above - release, [rot], ignore, c.GRIPPER_CLOSED, now, [np.zeros(3)]
+            )
+            if (
+                down is not None
+                and not down.hits
+                and np.max(np.abs(down.q_start - now)) < GLIDE_TOL
+            ):
+                q_start, q_end = down.q_start, down.q_end
+        joint_move(loop, q_start, 2.0, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         # Down to the release in joint space, on the path the plan checked: a long straight
         # line (into a deep drawer) can leave IK's branch and swing the forearm into a rim.
-        joint_move(loop, sol.q_end, 1.5, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
+        joint_move(loop, q_end, 1.5, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
-        if not self.touching_fingers(held):
+        if float(np.linalg.norm(self._in_hand(held) - grip)) > SLIP:
             loop.held = None
             return f"{held} slipped from the gripper"
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:

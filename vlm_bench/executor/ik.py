@@ -183,8 +183,9 @@ class ArmIk:
         carried: Carried | None = None,
     ) -> list[int]:
         """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
-        moved by ``base``), other than the geoms in ``ignore``; with ``carried``, the held
-        object moves with the hand and what it would touch counts too."""
+        moved by ``base``), other than the geoms in ``ignore``, and a robot geom for each
+        contact of the arm with itself or the UAV (MuJoCo leaves out adjacent links); with
+        ``carried``, the held object moves with the hand and what it would touch counts too."""
         s = self.scratch
         s.qpos[:] = data.qpos
         if base is not None:
@@ -210,7 +211,9 @@ class ArmIk:
                 continue
             g1, g2 = int(s.contact.geom[i][0]), int(s.contact.geom[i][1])
             r1, r2 = g1 in self._robot_geoms or g1 in held, g2 in self._robot_geoms or g2 in held
-            if r1 != r2:
+            if g1 in self._robot_geoms and g2 in self._robot_geoms:
+                hits.append(g1)  # the arm against itself or the UAV: it would jam there
+            elif r1 != r2:
                 other = g2 if r1 else g1
                 if other not in ignore:
                     hits.append(other)
