@@ -189,7 +189,8 @@ class Grasper:
         if tcp[2] >= top:
             return
         goal = np.array([tcp[0], tcp[1], top])
-        if arm.line(tcp, goal, rot, 1.0, gripper):
+        seconds = max(1.0, float(top - tcp[2]) / CARRY_SPEED)  # fast, it flings a held bolt
+        if arm.line(tcp, goal, rot, seconds, gripper):
             return
         # The straight line left IK's branch (an arm stretched far down folds up only by
         # swinging its elbow): a checked joint-space move from where it stopped instead.
