@@ -38,11 +38,12 @@ SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasp
 HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
 GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
-SLIP = 0.03  # m a held object may move in the hand on the way to its release (set down
-# on its destination, a tall bottle pushes up between the fingers)
+SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of
+# one finger's touch (set down on its destination, a tall bottle pushes up between the pads)
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
 RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (an arm stretched
 # a metre down into a drawer sags 4 cm; farther off, it did not get there)
+DRAWER_DROP_SIZE = 0.1  # m: the widest object dropped into a drawer from above its front
 DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
 DRAWER_DEPTHS = (1.0, 0.9)  # m: arm base above it (from a reach scan over an open drawer)
 
@@ -272,7 +273,8 @@ class Grasper:
         # line (into a deep drawer) can leave IK's branch and swing the forearm into a rim.
         joint_move(loop, q_end, 1.5, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
-        if float(np.linalg.norm(self._in_hand(held) - grip)) > SLIP:
+        moved = float(np.linalg.norm(self._in_hand(held) - grip))
+        if moved > SLIP and not self.touching_fingers(held):
             loop.held = None
             return f"{held} slipped from the gripper"
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
@@ -288,8 +290,9 @@ class Grasper:
 
     def _can_drop_into(self, episode: Episode, held: str, dest: str) -> bool:
         """Whether ``held`` may be dropped into ``dest`` from above its rim: ``dest`` holds
-        things inside it (a basket, a bowl, an open drawer's box; not a plate) and is deeper
-        than the object is tall (a tall bottle dropped in topples out over the rim)."""
+        things inside it (a basket, a bowl, an open drawer's box for objects at most
+        :data:`DRAWER_DROP_SIZE` across; not a plate) and is deeper than the object is tall (a
+        tall bottle dropped in topples out over the rim)."""
         model, data = self.loop.model, self.loop.data
         kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
         if _is_vessel(kind):
@@ -298,6 +301,9 @@ class Grasper:
         elif kind is None and any(p.id == dest and p.kind == "drawer" for p in episode.parts):
             _, wall = geom_bounds(model, data, model.geom(f"{dest}/box_front").id)
             depth = float(wall[2]) - float(data.body(dest).xpos[2])  # the floor: body origin
+            hlo, hhi = object_bounds(model, data, held, solid_only=True)
+            if float(np.max(hhi[:2] - hlo[:2])) > DRAWER_DROP_SIZE:
+                return False  # from over the front, a 0.4 m fall: a banana lands across a wall
         else:
             return False
         hlo, hhi = object_bounds(model, data, held, solid_only=True)
