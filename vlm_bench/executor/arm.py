@@ -255,49 +255,52 @@ class Arm:
     def preview_line(self, start: Vec, end: Vec, rotation: Vec, seconds: float) -> list[Vec] | None:
         """The postures :meth:`line` (without ``q_end``) would command from the arm's posture
         now, one per control step, solved offline; ``None`` where IK loses the line."""
-        n = max(2, round(seconds / c.CONTROL_DT))
-        q = arm_qpos(self.loop.model, self.loop.data)
-        out = []
-        for i in range(1, n + 1):
-            point = start + (end - start) * min_jerk(i / n)
-            q, res = self.ik.solve(self.loop.data, point, rotation, q, iterations=60)
-            if res > 3 * IK_OK:
-                return None
-            out.append(q)
-        return out
+        steps = _steps(seconds)
+        return self._preview([(start + (end - start) * s, rotation) for s in steps])
 
-    def glide(
-        self, end: Vec, rotation: Vec, seconds: float, gripper: float, q_end: Vec | None = None
-    ) -> bool:
+    def glide(self, end: Vec, rotation: Vec, seconds: float, gripper: float, q_end: Vec) -> bool:
         """Carry the hand (pointing down) in a straight line from where it is to ``end``,
         turning it about the vertical to ``rotation`` on the way and pulling the posture
-        towards ``q_end`` (if given): a joint-space move between two top-down postures tilts
-        the hand midway, and a bottle held by its cap swings out of the fingers. Previewed first
-        with the held object carried; ``False``, nothing moved, where IK loses the path or
+        towards ``q_end``: a joint-space move between two top-down postures tilts the hand
+        midway, and a bottle held by its cap swings out of the fingers. Previewed first with
+        the held object carried; ``False``, nothing moved, where IK loses the path or
         something would be touched."""
         start, now_rot = self.tcp()
         if now_rot[2, 2] > -0.99 or rotation[2, 2] > -0.99:  # not pointing down
             return False
         h0 = math.atan2(now_rot[1, 0], now_rot[0, 0])
         turn = math.remainder(math.atan2(rotation[1, 0], rotation[0, 0]) - h0, 2 * math.pi)
-        n = max(2, round(seconds / c.CONTROL_DT))
-        steps = [min_jerk(i / n) for i in range(1, n + 1)]
+        steps = _steps(seconds)
         poses = [(start + (end - start) * s, top_down_rotation(h0 + turn * s)) for s in steps]
         q0 = arm_qpos(self.loop.model, self.loop.data)
-        goal = q0 if q_end is None else q_end
-        rests = [q0 + (goal - q0) * s for s in steps]
-        data, q, path = self.loop.data, q0, []
-        for (point, rot), rest in zip(poses, rests, strict=True):
-            q, res = self.ik.solve(data, point, rot, q, iterations=60, posture=rest)
-            if res > 3 * IK_OK:
-                return False
-            path.append(q)
+        rests = [q0 + (q_end - q0) * s for s in steps]
+        path = self._preview(poses, rests)
+        if path is None:
+            return False
         carried = self.carried()
         zero = np.zeros(3)
-        checked = [*path[:: max(1, n // 10)], path[-1]]
-        if any(self.ik.collisions(data, p, set(), gripper, zero, carried) for p in checked):
+        checked = [*path[:: max(1, len(steps) // 10)], path[-1]]
+        if any(
+            self.ik.collisions(self.loop.data, p, set(), gripper, zero, carried) for p in checked
+        ):
             return False
-        return self.follow(poses, gripper, rests if q_end is not None else None)
+        return self.follow(poses, gripper, rests)
+
+    def _preview(
+        self, poses: Sequence[tuple[Vec, Vec]], postures: Sequence[Vec] | None = None
+    ) -> list[Vec] | None:
+        """The postures :meth:`follow` would command through ``poses`` (pulled towards
+        ``postures``), solved offline from the posture now; ``None`` where IK loses them."""
+        data = self.loop.data
+        q = arm_qpos(self.loop.model, data)
+        out = []
+        for i, (point, rotation) in enumerate(poses):
+            rest = postures[i] if postures is not None else None
+            q, res = self.ik.solve(data, point, rotation, q, iterations=60, posture=rest)
+            if res > 3 * IK_OK:
+                return None
+            out.append(q)
+        return out
 
     def line(
         self,
@@ -312,9 +315,8 @@ class Arm:
         keeping ``rotation``; ``False`` where IK loses the line. With ``q_end`` (the planned
         joint angles at ``end``), IK's posture follows the joint-space blend towards them, so
         the arm stays on the branch the plan checked for collisions."""
-        n = max(2, round(seconds / c.CONTROL_DT))
         q0 = arm_qpos(self.loop.model, self.loop.data)
-        steps = [min_jerk(i / n) for i in range(1, n + 1)]
+        steps = _steps(seconds)
         poses = ((start + (end - start) * s, rotation) for s in steps)
         if q_end is None:
             return self.follow(poses, gripper)
@@ -370,3 +372,9 @@ class Arm:
     def touching_fingers(self, obj: str) -> bool:
         """Whether both fingers touch ``obj``."""
         return self.touching(self.body_geoms(obj))
+
+
+def _steps(seconds: float) -> list[float]:
+    """Minimum-jerk progress at each control step of a ``seconds``-long motion (at least 2)."""
+    n = max(2, round(seconds / c.CONTROL_DT))
+    return [min_jerk(i / n) for i in range(1, n + 1)]

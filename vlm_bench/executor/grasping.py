@@ -116,8 +116,8 @@ class Grasper:
             mid, half = (glo + ghi) / 2, (ghi - glo) / 2
             if abs(float(np.dot(mid - point, along))) > SECTION_HALF:
                 continue
-            c, h = float(np.dot(mid - point, across)), float(np.dot(half, np.abs(across)))
-            lo, hi = min(lo, c - h), max(hi, c + h)
+            off, h = float(np.dot(mid - point, across)), float(np.dot(half, np.abs(across)))
+            lo, hi = min(lo, off - h), max(hi, off + h)
         if lo > hi:
             return point
         return point + across * (lo + hi) / 2
@@ -295,18 +295,17 @@ class Grasper:
         tall bottle dropped in topples out over the rim)."""
         model, data = self.loop.model, self.loop.data
         kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
+        hlo, hhi = object_bounds(model, data, held, solid_only=True)
         if _is_vessel(kind):
             lo, hi = object_bounds(model, data, dest, solid_only=True)
             depth = float(hi[2] - lo[2]) - CONTAINER_FLOOR
         elif kind is None and any(p.id == dest and p.kind == "drawer" for p in episode.parts):
             _, wall = geom_bounds(model, data, model.geom(f"{dest}/box_front").id)
             depth = float(wall[2]) - float(data.body(dest).xpos[2])  # the floor: body origin
-            hlo, hhi = object_bounds(model, data, held, solid_only=True)
             if float(np.max(hhi[:2] - hlo[:2])) > DRAWER_DROP_SIZE:
                 return False  # from over the front, a 0.4 m fall: a banana lands across a wall
         else:
             return False
-        hlo, hhi = object_bounds(model, data, held, solid_only=True)
         return float(hhi[2] - hlo[2]) < depth
 
     def _drawer_assists(self, episode: Episode, dest: str, release: Vec) -> list[Vec] | None:
