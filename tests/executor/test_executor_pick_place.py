@@ -101,3 +101,37 @@ def test_a_held_object_is_carried_clear_of_what_the_flight_stops_at() -> None:
     assert float(scene.data.qpos[joint]) > 0.34
     outcome = run.step(4, episode.gt_plan[4], episode.gt_plan)  # place in the drawer
     assert outcome.status == "ok", outcome.reason
+
+
+def test_the_raise_after_a_pick_keeps_off_a_whipping_straight_line() -> None:
+    """visual_combination_blue_red seed 4: raised straight up to carrying height, the arm's
+    IK swung two joints 1.7 rad and drove the base joint onto its limit, and the cup fell out
+    of the fingers. The raise now takes a straight line only where it is steady."""
+    episode = make_episode("visual_combination_blue_red", 4)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the blue cup
+        assert run.step(i, step, episode.gt_plan).status == "ok"
+    arm = Arm(loop)
+    assert loop.held == "blue_cup"
+    assert arm.touching_fingers("blue_cup")
+    assert arm.ik.limit_margin(arm_qpos(loop.model, loop.data)) > 0.05
+
+
+def test_a_steady_line_refuses_a_joint_whip() -> None:
+    """The same 0.1 m raise is steady given 3 s and refused in 0.1 s, which would need a
+    joint faster than 1 rad/s; nothing moves while it is previewed."""
+    import numpy as np
+
+    from vlm_bench.executor.ik import TOP_DOWN_SEED
+    from vlm_bench.executor.motion import joint_move
+
+    loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
+    joint_move(loop, np.asarray(TOP_DOWN_SEED), 2.0, c.GRIPPER_OPEN)
+    arm = Arm(loop)
+    tcp, rot = arm.tcp()
+    up = tcp + np.array([0.0, 0.0, 0.1])
+    q = arm_qpos(loop.model, loop.data)
+    assert arm.steady_line(tcp, up, rot, 3.0, 1.0, margin=0.0) is not None
+    assert arm.steady_line(tcp, up, rot, 0.1, 1.0, margin=0.0) is None
+    assert np.array_equal(arm_qpos(loop.model, loop.data), q)

@@ -4,7 +4,7 @@ moves, finger-contact tests and small UAV base adjustments, all on one simulatio
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -179,35 +179,55 @@ class Arm:
             rotation=rot.T @ np.array(body.xmat).reshape(3, 3),
         )
 
-    def clear_for_flight(self, travel: Vec) -> bool:
+    def clear_for_flight(self, travel: Vec) -> float | None:
         """Before the UAV flies ``travel`` (m, world) with an object in the hand: where the
         object, carried as it hangs now, would meet something on the way (a drawer's front
         the flight stops at), turn the arm's base joint, smallest turn first, to a posture
-        from which the whole flight is clear. Whether the flight is clear now."""
-        carried = self.carried()
-        if carried is None:
-            return True
-        data = self.loop.data
-        n = max(1, math.ceil(float(np.linalg.norm(travel)) / FLIGHT_STEP))
-        ways = [np.asarray(travel) * k / n for k in range(n + 1)]
+        from which the whole flight is clear. The turn made (rad, 0 for none; undo it with
+        :meth:`turn_back` after the flight), ``None`` where no turn clears the flight."""
+        if self.loop.held is None:
+            return 0.0
 
         def clear(q: Vec) -> bool:
-            return not any(self.ik.collisions(data, q, set(), None, b, carried) for b in ways)
+            return self.flight_clear(travel, q)
 
-        now = arm_qpos(self.loop.model, data)
-        if clear(now):
-            return True
+        if clear(arm_qpos(self.loop.model, self.loop.data)):
+            return 0.0
         for turn in CARRY_TURNS:
-            q = now.copy()
-            q[0] += turn
-            if self.ik.limit_margin(q) < MIN_MARGIN:
-                continue
-            if clear(q) and not self.path_hits(
-                now, q, set(), c.GRIPPER_CLOSED, np.zeros(3), carried
-            ):
-                joint_move(self.loop, q, 1.0, None, HELD_JOINT_SPEED)
-                return True
-        return False
+            if self._turn(turn, clear):
+                return turn
+        return None
+
+    def flight_clear(self, travel: Vec, q: Vec | None = None) -> bool:
+        """Whether the robot, with arm angles ``q`` (default: as now) and the held object
+        carried, touches nothing while the UAV flies ``travel`` (m, world)."""
+        data, carried = self.loop.data, self.carried()
+        q = arm_qpos(self.loop.model, data) if q is None else q
+        n = max(1, math.ceil(float(np.linalg.norm(travel)) / FLIGHT_STEP))
+        ways = [np.asarray(travel) * k / n for k in range(n + 1)]
+        return not any(self.ik.collisions(data, q, set(), None, b, carried) for b in ways)
+
+    def turn_back(self, turn: float | None) -> None:
+        """Undo :meth:`clear_for_flight`'s turn of the base joint after the flight, where the
+        way back is clear: the arm turned near its limit leaves a place no clear way to its
+        release but a wide swing, which flings a held object."""
+        if turn:
+            self._turn(-turn, lambda _q: True)
+
+    def _turn(self, turn: float, clear: Callable[[Vec], bool]) -> bool:
+        """Turn the base joint by ``turn`` (rad), holding the object, where the posture it
+        ends in keeps off the joint limits and is ``clear`` and the way there touches
+        nothing; whether it turned."""
+        now = arm_qpos(self.loop.model, self.loop.data)
+        q = now.copy()
+        q[0] += turn
+        if self.ik.limit_margin(q) < MIN_MARGIN or not clear(q):
+            return False
+        carried = self.carried()
+        if self.path_hits(now, q, set(), c.GRIPPER_CLOSED, np.zeros(3), carried):
+            return False
+        joint_move(self.loop, q, 1.0, None, HELD_JOINT_SPEED)
+        return True
 
     def back_off(self, point: Vec, within: float, to: float) -> Vec | None:
         """The horizontal UAV move that puts ``point`` ``to`` m (horizontally) from the arm
@@ -257,6 +277,29 @@ class Arm:
         now, one per control step, solved offline; ``None`` where IK loses the line."""
         steps = _steps(seconds)
         return self._preview([(start + (end - start) * s, rotation) for s in steps])
+
+    def steady_line(
+        self,
+        start: Vec,
+        end: Vec,
+        rotation: Vec,
+        seconds: float,
+        max_speed: float,
+        margin: float = MIN_MARGIN,
+    ) -> list[Vec] | None:
+        """:meth:`preview_line`'s postures where IK follows the whole line with no joint
+        faster than ``max_speed`` (rad/s) and none within ``margin`` (rad) of its limit,
+        else ``None``: near a singularity a straight line whips a joint round, and a servo at
+        its limit strays off the line (either flings what the hand holds)."""
+        postures = self.preview_line(start, end, rotation, seconds)
+        if postures is None:
+            return None
+        q = np.array([arm_qpos(self.loop.model, self.loop.data), *postures])
+        if float(np.max(np.abs(np.diff(q, axis=0)))) / c.CONTROL_DT > max_speed:
+            return None
+        if min(self.ik.limit_margin(p) for p in postures) < margin:
+            return None
+        return postures
 
     def glide(self, end: Vec, rotation: Vec, seconds: float, gripper: float, q_end: Vec) -> bool:
         """Carry the hand (pointing down) in a straight line from where it is to ``end``,

@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, MIN_MARGIN, Arm
+from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, Arm
 from vlm_bench.executor.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
@@ -146,14 +146,9 @@ class Articulator:
         handle = self._handle_geoms(part)
         for frac in STROKE_FRACTIONS:
             end = start + travel * frac
-            postures = arm.preview_line(start, end, rot, _slide_seconds(end - start))
+            seconds = _slide_seconds(end - start)
+            postures = arm.steady_line(start, end, rot, seconds, STROKE_JOINT_SPEED)
             if postures is None:
-                continue
-            q = np.array(postures)
-            speeds = np.abs(np.diff(q, axis=0)) / c.CONTROL_DT
-            if speeds.size and float(speeds.max()) > STROKE_JOINT_SPEED:
-                continue
-            if min(arm.ik.limit_margin(p) for p in postures) < MIN_MARGIN:
                 continue
             checked = [*postures[:: max(1, len(postures) // 8)], postures[-1]]
             zero = np.zeros(3)

@@ -53,16 +53,17 @@ def run_move(
     """Fly ``step``, stopping for ``arm``, the next ARM step, if any. The arm is stowed first
     unless it holds something: folding a held object up against the arm knocks it out of the
     fingers, so it is carried where the pick lifted it, turned aside (by ``carrier``, the
-    arm's planner) where it would meet something on the way."""
+    arm's planner) where it would meet something on the way, and turned back after."""
     ref = refs(loop.data, arm.object, arm.skill, loop.held) if arm else None
     flight = loop.config.flight
     if loop.held is None:
         stow_arm(loop, flight)
     start = loop.controller.setpoint.copy()
     target = move_target(start, refs.episode.uav_start.yaw_deg, step, ref)
-    if loop.held is not None and carrier is not None:
-        carrier.clear_for_flight(target - start)
+    turn = carrier.clear_for_flight(target - start) if loop.held and carrier else None
     fly_to(loop, target, flight)
+    if carrier is not None:
+        carrier.turn_back(turn)
 
 
 def episode_scene(episode: Episode, config: ExecutorConfig) -> Scene:

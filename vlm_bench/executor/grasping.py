@@ -38,6 +38,8 @@ SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasp
 HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
 GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
+RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
+RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at IK's clamp)
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of
 # one finger's touch (set down on its destination, a tall bottle pushes up between the pads)
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
@@ -164,9 +166,11 @@ class Grasper:
         # table), and not at all where it would come down on something (a basket's rim).
         undo = -np.asarray(shift, dtype=np.float64)
         undo[2] = max(undo[2], min(0.0, bottom + MIN_LIFT - self._bottom(obj)))
-        if undo[2] < 0.0 and not arm.clear_for_flight(undo):
+        turn = arm.clear_for_flight(undo) if undo[2] < 0.0 else 0.0
+        if turn is None:
             undo[2] = 0.0
         arm.shift_base(undo)
+        arm.turn_back(turn)
         return None
 
     def _in_hand(self, obj: str) -> Vec:
@@ -191,10 +195,12 @@ class Grasper:
             return
         goal = np.array([tcp[0], tcp[1], top])
         seconds = max(1.0, float(top - tcp[2]) / CARRY_SPEED)  # fast, it flings a held bolt
-        if arm.line(tcp, goal, rot, seconds, gripper):
+        steady = arm.steady_line(tcp, goal, rot, seconds, RAISE_JOINT_SPEED, RAISE_MARGIN)
+        if steady is not None and arm.line(tcp, goal, rot, seconds, gripper):
             return
-        # The straight line left IK's branch (an arm stretched far down folds up only by
-        # swinging its elbow): a checked joint-space move from where it stopped instead.
+        # The straight line leaves IK's branch or whips a joint round (an arm stretched far
+        # down folds up only by swinging its elbow): a checked joint-space move instead, from
+        # where it stopped, or none (the object stays where the pick lifted it).
         held = arm.body_geoms(loop.held) if loop.held is not None else set()
         now = arm_qpos(loop.model, loop.data)
         sol = arm.plan(goal, np.zeros(3), [rot], held, gripper, now, [np.zeros(3)])
@@ -252,22 +258,8 @@ class Grasper:
                 sol, release = high, drop
         if sol is None:
             return f"{dest} is out of reach"
-        rot, shift = sol.rotation, sol.shift
-        arm.shift_base(shift)
-        seconds = max(2.0, float(np.linalg.norm(above - arm.tcp()[0])) / CARRY_SPEED)
-        q_start, q_end = sol.q_start, sol.q_end
-        if arm.glide(above, rot, seconds, c.GRIPPER_CLOSED, sol.q_start):
-            # The glide may end on another branch: the way down planned again from there.
-            now = arm_qpos(loop.model, loop.data)
-            down = arm.plan(
-                release, above - release, [rot], ignore, c.GRIPPER_CLOSED, now, [np.zeros(3)]
-            )
-            if (
-                down is not None
-                and not down.hits
-                and np.max(np.abs(down.q_start - now)) < GLIDE_TOL
-            ):
-                q_start, q_end = down.q_start, down.q_end
+        arm.shift_base(sol.shift)
+        q_start, q_end, rot, shift = self._bring_over(release, above, sol, heading, ignore)
         joint_move(loop, q_start, 2.0, c.GRIPPER_CLOSED, HELD_JOINT_SPEED)
         # Down to the release in joint space, on the path the plan checked: a long straight
         # line (into a deep drawer) can leave IK's branch and swing the forearm into a rim.
@@ -287,6 +279,62 @@ class Grasper:
         stow_arm(loop, loop.config.flight)
         arm.shift_base(-shift)
         return None
+
+    def _bring_over(
+        self, release: Vec, above: Vec, sol: Reach, heading: float, ignore: set[int]
+    ) -> tuple[Vec, Vec, Vec, Vec]:
+        """Carry the held object to ``above`` its release, with the UAV moved by ``sol``'s
+        shift already: the hand glides there pointing down (turning to the plan's heading on
+        the way, or, where the arm would meet itself turning, keeping its own); else the UAV
+        flies it there with the arm's posture held; else (the flight would touch something)
+        nothing moves and the plan's joint-space move takes it. A joint-space move between
+        two top-down postures tilts the hand midway and swings an object hanging from the
+        fingers (a bottle by its cap, a teddy bear by its head) out of them.
+
+        Returns the descent's first and last postures, the hand's orientation on it and the
+        UAV's move in all (to undo after the release)."""
+        arm, loop = self.arm, self.loop
+        seconds = max(2.0, float(np.linalg.norm(above - arm.tcp()[0])) / CARRY_SPEED)
+        now = arm_qpos(loop.model, loop.data)
+        shift = np.asarray(sol.shift, dtype=np.float64)
+        options: tuple[Reach | None, ...] = (sol, None)
+        for plan in options:
+            if plan is None:  # the plan's heading failed: one for the hand's heading now
+                plan = arm.plan(
+                    release,
+                    above - release,
+                    [top_down_rotation(heading)],
+                    ignore,
+                    c.GRIPPER_CLOSED,
+                    now,
+                    [np.zeros(3)],
+                )
+                if plan is None or plan.hits:
+                    break
+            if arm.glide(above, plan.rotation, seconds, c.GRIPPER_CLOSED, plan.q_start):
+                # It may end on another branch: the way down planned again from there.
+                way = self._descent(release, above, heading, ignore, np.zeros(3)) or plan
+                return way.q_start, way.q_end, way.rotation, shift
+        travel = above - arm.tcp()[0]
+        down = self._descent(release, above, heading, ignore, travel)
+        if down is not None and arm.flight_clear(travel):
+            arm.shift_base(travel)
+            return down.q_start, down.q_end, down.rotation, shift + travel
+        return sol.q_start, sol.q_end, sol.rotation, shift
+
+    def _descent(
+        self, release: Vec, above: Vec, heading: float, ignore: set[int], base: Vec
+    ) -> Reach | None:
+        """The clear way down from ``above`` to ``release`` with the UAV moved by ``base``,
+        starting within :data:`GLIDE_TOL` of the arm's posture now (the hand already above),
+        if any."""
+        now = arm_qpos(self.loop.model, self.loop.data)
+        down = self._plan_top_down(
+            release, above - release, heading, ignore, c.GRIPPER_CLOSED, now, [base]
+        )
+        if down is None or down.hits or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
+            return None
+        return down
 
     def _can_drop_into(self, episode: Episode, held: str, dest: str) -> bool:
         """Whether ``held`` may be dropped into ``dest`` from above its rim: ``dest`` holds
