@@ -135,3 +135,17 @@ def test_a_steady_line_refuses_a_joint_whip() -> None:
     assert arm.steady_line(tcp, up, rot, 3.0, 1.0, margin=0.0) is not None
     assert arm.steady_line(tcp, up, rot, 0.1, 1.0, margin=0.0) is None
     assert np.array_equal(arm_qpos(loop.model, loop.data), q)
+
+
+def test_a_cleanser_is_held_across_its_nozzle() -> None:
+    """function_detergent seed 4: closing along the nozzle, the flat pads squeezed the round
+    cap alone and it rolled out from between them. Closed across it, one pad on the
+    nozzle's end, the bottle comes up in the hand."""
+    episode = make_episode("function_detergent", 4)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the cleanser
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert loop.held == "cleanser"
+    assert Arm(loop).touching_fingers("cleanser")

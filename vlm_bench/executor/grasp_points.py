@@ -90,8 +90,13 @@ def grasp_points(
         return [GraspPoint(head, _headings(yaw, 2))]
     if kind.name == "cleanser":
         # By the cap (2.8 cm tall for the pads' 2.6 cm): the palm would meet it lower down.
+        # Closing across the nozzle (one pad on its flat end) holds; closing along it, the
+        # round cap alone rolls out between the flat pads as they squeeze.
         cap = np.array([pos[0], pos[1], float(hi[2]) - CAP_BELOW_TOP])
-        return [GraspPoint(cap, _headings(yaw, 4))]
+        return [
+            GraspPoint(cap, _headings(yaw + math.pi / 2, 2)),
+            GraspPoint(cap, _headings(yaw, 2)),
+        ]
     if max(sx, sy) <= MAX_ACROSS and min(sx, sy) >= SQUARE * max(sx, sy):
         return [GraspPoint(centre, _headings(yaw, 4))]
     # Close across the narrower side: the hand's x axis along the longer one.
