@@ -40,6 +40,7 @@ GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
 RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
 RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at IK's clamp)
+RAISE_SWING = 1.0  # rad: the widest joint swing of a joint-space raise with an object in hand
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of
 # one finger's touch (set down on its destination, a tall bottle pushes up between the pads)
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
@@ -194,18 +195,33 @@ class Grasper:
         if tcp[2] >= top:
             return
         goal = np.array([tcp[0], tcp[1], top])
-        seconds = max(1.0, float(top - tcp[2]) / CARRY_SPEED)  # fast, it flings a held bolt
-        steady = arm.steady_line(tcp, goal, rot, seconds, RAISE_JOINT_SPEED, RAISE_MARGIN)
-        if steady is not None and arm.line(tcp, goal, rot, seconds, gripper):
+        if self._raise(tcp, goal, rot, gripper):
             return
         # The straight line leaves IK's branch or whips a joint round (an arm stretched far
         # down folds up only by swinging its elbow): a checked joint-space move instead, from
-        # where it stopped, or none (the object stays where the pick lifted it).
+        # where it stopped; holding an object, only a narrow swing (a 1.8 rad one tilted the
+        # hand and flung a bolt), else half the line, else none (it stays where the pick
+        # lifted it).
         held = arm.body_geoms(loop.held) if loop.held is not None else set()
         now = arm_qpos(loop.model, loop.data)
         sol = arm.plan(goal, np.zeros(3), [rot], held, gripper, now, [np.zeros(3)])
-        if sol is not None and sol.hits == 0:
+        narrow = sol is not None and float(np.max(np.abs(sol.q_end - now))) <= RAISE_SWING
+        if sol is not None and sol.hits == 0 and (loop.held is None or narrow):
             joint_move(loop, sol.q_end, 1.5, gripper, HELD_JOINT_SPEED)
+            return
+        if loop.held is not None:
+            self._raise(tcp, (tcp + goal) / 2, rot, gripper)
+
+    def _raise(self, tcp: Vec, goal: Vec, rot: Vec, gripper: float) -> bool:
+        """The straight raise from ``tcp`` to ``goal`` at :data:`CARRY_SPEED`, where it is
+        steady (holding an object) and IK follows it; whether it got there."""
+        arm = self.arm
+        seconds = max(1.0, float(goal[2] - tcp[2]) / CARRY_SPEED)  # fast, it flings a bolt
+        if self.loop.held is not None and (
+            arm.steady_line(tcp, goal, rot, seconds, RAISE_JOINT_SPEED, RAISE_MARGIN) is None
+        ):
+            return False
+        return arm.line(tcp, goal, rot, seconds, gripper)
 
     def place(self, episode: Episode, step: ArmStep) -> str | None:
         """Lower the held object onto/into ``step.object`` and release it."""
