@@ -53,3 +53,13 @@ def test_push_without_target_takes_the_box_off_the_table() -> None:
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
     assert result.displacement["white_box"] < 0.01  # the look-alike stays
+
+
+def test_the_way_down_to_a_push_keeps_off_the_cube() -> None:
+    """preposition_by_dont seed 3: the only plan tried from the UAV's pose swept the arm
+    across the table and knocked the cube 0.16 m aside before the push began (it then moved
+    0.06 m the wrong way). Clear plans from other UAV poses now come first."""
+    episode = make_episode("preposition_by_dont", 3)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+    assert result.goals == (True,)

@@ -20,7 +20,6 @@ KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observe
     ("function_detergent", 9): "goal not met: inside(cleanser, yellow_bowl)",
     ("multi_object_sorting", 1): "step 5: gray_basket is out of reach",
     ("multi_object_sorting", 4): "step 4: grasp of gray_cube failed",
-    ("preposition_by_dont", 3): "step 1: green_cube moved -0.06 m of 0.13 m",
     ("slim_object_in_bowl", 8): "goal not met: inside(cleanser, yellow_bowl)",
     ("variant_chocolate_box", 2): "step 2: purple_storage_box is out of reach",
     ("variant_teddy_bear", 4): "step 1: grasp of teddy_bear failed",

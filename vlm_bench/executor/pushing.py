@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.catalog.world import object_kind
-from vlm_bench.executor.arm import IK_OK, Arm
+from vlm_bench.executor.arm import IK_OK, Arm, Reach
 from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
@@ -159,12 +159,14 @@ class Pusher:
 
     def _plan(self, obj: str, path: PushPath) -> PushPlan | None:
         """How to push along ``path``: by the arm where it reaches the whole stroke, else by
-        the UAV carrying the arm's start posture along (the first feasible start)."""
+        the UAV carrying the arm's start posture along (the first feasible start). The way
+        down to the start must be clear (from the stowed arm, a sweep across the table
+        knocked the cube away before the push began); failing that, the others in turn."""
         start, end = self._contact_points(obj, path)
         heading = math.atan2(path.direction[1], path.direction[0])
         rotations = [top_down_rotation(heading + k * math.pi / 2) for k in range(4)]
         ignore = self.arm.body_geoms(obj)
-        data, ik = self.loop.data, self.arm.ik
+        blocked = []
         carried: PushPlan | None = None
         for shift in self._assists(start, end):
             sol = self.arm.plan(
@@ -176,20 +178,38 @@ class Pusher:
                 np.asarray(TOP_DOWN_SEED),
                 assist=(shift,),
             )
-            if sol is None:
-                continue
-            q_pre, rot = sol.q_start, sol.rotation
-            q_end, res = self.arm.solve_any(end, rot, q_pre, shift)
-            if res <= IK_OK and not ik.collisions(data, q_end, ignore, c.GRIPPER_CLOSED, shift):
-                return PushPlan(q_pre, rot, shift, start, end, carried=False)
-            if carried is None:
-                q_start, res = self.arm.solve_any(start, rot, q_pre, shift)
-                moved = shift + (end - start)
-                if res <= IK_OK and not ik.collisions(
-                    data, q_start, ignore, c.GRIPPER_CLOSED, moved
-                ):
-                    carried = PushPlan(q_pre, rot, shift, start, end, carried=True)
+            if sol is not None and sol.hits:
+                blocked.append(sol)
+            elif sol is not None:
+                plan, stroke = self._stroke_plan(sol, start, end, ignore)
+                if plan is not None:
+                    return plan
+                carried = carried or stroke
+        if carried is not None:
+            return carried
+        for sol in blocked:
+            plan, stroke = self._stroke_plan(sol, start, end, ignore)
+            if plan is not None:
+                return plan
+            carried = carried or stroke
         return carried
+
+    def _stroke_plan(
+        self, sol: Reach, start: Vec, end: Vec, ignore: set[int]
+    ) -> tuple[PushPlan | None, PushPlan | None]:
+        """From a planned way down to the push's ``start``: the push by the arm alone where
+        it reaches ``end`` touching nothing but the object, else ``None`` and the push with
+        the UAV carrying the start posture along, where that start is clear."""
+        data, ik, shift = self.loop.data, self.arm.ik, sol.shift
+        q_pre, rot = sol.q_start, sol.rotation
+        q_end, res = self.arm.solve_any(end, rot, q_pre, shift)
+        if res <= IK_OK and not ik.collisions(data, q_end, ignore, c.GRIPPER_CLOSED, shift):
+            return PushPlan(q_pre, rot, shift, start, end, carried=False), None
+        q_start, res = self.arm.solve_any(start, rot, q_pre, shift)
+        moved = shift + (end - start)
+        if res <= IK_OK and not ik.collisions(data, q_start, ignore, c.GRIPPER_CLOSED, moved):
+            return None, PushPlan(q_pre, rot, shift, start, end, carried=True)
+        return None, None
 
     def push(self, episode: Episode, step: ArmStep) -> str | None:
         """Push ``step.object`` next to ``step.target``, or off its support without one;
