@@ -149,3 +149,12 @@ def test_a_cleanser_is_held_across_its_nozzle() -> None:
         assert outcome.status == "ok", outcome.reason
     assert loop.held == "cleanser"
     assert Arm(loop).touching_fingers("cleanser")
+
+
+def test_a_glide_that_drives_a_joint_onto_its_limit_is_refused() -> None:
+    """variant_chocolate_box seed 2: the glide over the storage box ended with the base joint
+    at its limit; the servo strayed and the release was missed by more than 6 cm. A glide
+    reaching a limit is now refused, and the box goes in another way."""
+    episode = make_episode("variant_chocolate_box", 2)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason

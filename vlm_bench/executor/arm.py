@@ -28,6 +28,7 @@ MIN_MARGIN = 0.05  # rad from the joint limits for a plan to count as clear
 SWING_BIN = 0.5  # rad: plans whose widest joint swing differs by less are equally good
 HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts as a contact
 # (a bottle hung by its cap slipped out of the fingers in a 4.9 rad turn of the base joint)
+GLIDE_MARGIN = 0.01  # rad: the nearest a glide may bring a joint to its limit (0: IK's clamp)
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
@@ -306,8 +307,8 @@ class Arm:
         turning it about the vertical to ``rotation`` on the way and pulling the posture
         towards ``q_end``: a joint-space move between two top-down postures tilts the hand
         midway, and a bottle held by its cap swings out of the fingers. Previewed first with
-        the held object carried; ``False``, nothing moved, where IK loses the path or
-        something would be touched."""
+        the held object carried; ``False``, nothing moved, where IK loses the path, a joint
+        would reach its limit or something would be touched."""
         start, now_rot = self.tcp()
         if now_rot[2, 2] > -0.99 or rotation[2, 2] > -0.99:  # not pointing down
             return False
@@ -318,8 +319,8 @@ class Arm:
         q0 = arm_qpos(self.loop.model, self.loop.data)
         rests = [q0 + (q_end - q0) * s for s in steps]
         path = self._preview(poses, rests)
-        if path is None:
-            return False
+        if path is None or min(self.ik.limit_margin(p) for p in path) < GLIDE_MARGIN:
+            return False  # at a limit, the servo strays off the line
         carried = self.carried()
         zero = np.zeros(3)
         checked = [*path[:: max(1, len(steps) // 10)], path[-1]]
