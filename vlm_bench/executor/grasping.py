@@ -313,24 +313,28 @@ class Grasper:
         seconds = max(2.0, float(np.linalg.norm(above - arm.tcp()[0])) / CARRY_SPEED)
         now = arm_qpos(loop.model, loop.data)
         shift = np.asarray(sol.shift, dtype=np.float64)
-        options: tuple[Reach | None, ...] = (sol, None)
-        for plan in options:
-            if plan is None:  # the plan's heading failed: one for the hand's heading now
-                plan = arm.plan(
-                    release,
-                    above - release,
-                    [top_down_rotation(heading)],
-                    ignore,
-                    c.GRIPPER_CLOSED,
-                    now,
-                    [np.zeros(3)],
-                )
-                if plan is None or plan.hits:
-                    break
-            if arm.glide(above, plan.rotation, seconds, c.GRIPPER_CLOSED, plan.q_start):
-                # It may end on another branch: the way down planned again from there.
-                way = self._descent(release, above, heading, ignore, np.zeros(3)) or plan
-                return way.q_start, way.q_end, way.rotation, shift
+
+        def glide(plan: Reach) -> tuple[Vec, Vec, Vec, Vec] | None:
+            if not arm.glide(above, plan.rotation, seconds, c.GRIPPER_CLOSED, plan.q_start):
+                return None
+            # It may end on another branch: the way down planned again from there.
+            way = self._descent(release, above, heading, ignore, np.zeros(3)) or plan
+            return way.q_start, way.q_end, way.rotation, shift
+
+        if (done := glide(sol)) is not None:
+            return done
+        # The plan's heading failed: a plan for the hand's heading now.
+        keep = arm.plan(
+            release,
+            above - release,
+            [top_down_rotation(heading)],
+            ignore,
+            c.GRIPPER_CLOSED,
+            now,
+            [np.zeros(3)],
+        )
+        if keep is not None and not keep.hits and (done := glide(keep)) is not None:
+            return done
         travel = above - arm.tcp()[0]
         down = self._descent(release, above, heading, ignore, travel)
         if down is not None and arm.flight_clear(travel):
