@@ -158,3 +158,51 @@ def test_a_glide_that_drives_a_joint_onto_its_limit_is_refused() -> None:
     episode = make_episode("variant_chocolate_box", 2)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
+
+
+def test_the_stow_keeps_the_wrist_out_of_the_uav() -> None:
+    """From an arm reaching out sideways, the straight joint-space stow swings link 6
+    through the UAV's body; the stow goes through a via posture and touches nothing."""
+    import mujoco
+    import numpy as np
+
+    from vlm_bench.sim.robot import robot_geom_ids, set_arm_targets
+
+    loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
+    arm = Arm(loop)
+    out = np.array([1.65, -1.75, 2.55, -2.56, -0.61, 1.28, -1.33])  # the arm put there
+    loop.data.qpos[arm.ik.qadr] = out
+    set_arm_targets(loop.model, loop.data, out, c.GRIPPER_OPEN)
+    mujoco.mj_forward(loop.model, loop.data)
+    stowed = np.asarray(c.ARM_STOW)
+    assert arm.path_hits(out, stowed, set(), c.GRIPPER_OPEN, np.zeros(3)) > 0
+    robot = set(robot_geom_ids(loop.model))
+    self_contacts = []
+
+    def watch(lp: SimLoop) -> None:
+        d = lp.data
+        geoms = d.contact.geom[: d.ncon]
+        self_contacts.extend(int(g1) for g1, g2 in geoms if g1 in robot and g2 in robot)
+
+    loop.observers.append(watch)
+    climb = arm.stow()
+    assert not climb.any()
+    assert self_contacts == []
+    assert np.max(np.abs(arm_qpos(loop.model, loop.data) - stowed)) < 0.05
+
+
+def test_the_stow_after_a_release_climbs_clear_of_a_mug_beside_it() -> None:
+    """color_matched_sorting seed 8: folding up from the black mug's release, the elbow
+    swept the yellow mug off the table (planned 3 cm clear). The UAV now climbs first,
+    and the yellow mug stays upright for its own pick."""
+    import math
+
+    episode = make_episode("color_matched_sorting", 8)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the black mug, place it
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert not any(name.startswith("yellow_mug") for name in outcome.collisions)
+    upright = float(loop.data.body("yellow_mug").xmat[8])
+    assert math.degrees(math.acos(min(1.0, upright))) < 5.0

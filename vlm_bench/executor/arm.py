@@ -13,11 +13,11 @@ from numpy.typing import NDArray
 from vlm_bench.executor.ik import SEED_POSTURES, ArmIk, Carried, top_down_rotation
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.motion import HELD_JOINT_SPEED, joint_move, min_jerk
-from vlm_bench.executor.uav_move import fly_to
+from vlm_bench.executor.uav_move import STOWED_TOL, fly_to, stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.base import free_joint_name
 from vlm_bench.sim.objects.bounds import subtree_geoms
-from vlm_bench.sim.robot import arm_qpos, set_arm_targets
+from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
 
 Vec = NDArray[np.float64]
 IK_OK = 0.02  # residual (m + rad) accepted
@@ -29,6 +29,7 @@ SWING_BIN = 0.5  # rad: plans whose widest joint swing differs by less are equal
 HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts as a contact
 # (a bottle hung by its cap slipped out of the fingers in a 4.9 rad turn of the base joint)
 GLIDE_MARGIN = 0.01  # rad: the nearest a glide may bring a joint to its limit (0: IK's clamp)
+STOW_CLEARANCE = 0.05  # m the stow's planned way keeps from everything, or the UAV climbs
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
@@ -150,16 +151,24 @@ class Arm:
         gripper: float,
         base: Vec,
         carried: Carried | None = None,
+        clearance: float = 0.0,
     ) -> int:
         """Contacts outside ``ignore`` along the joint-space move ``q_from`` → ``q_to``
         (sampled every :data:`PATH_STEP` rad of the widest joint swing, the end included),
-        with the UAV moved by ``base`` and ``carried`` in the hand."""
+        with the UAV moved by ``base`` and ``carried`` in the hand (or, with ``clearance``,
+        m, approaches closer than that)."""
         n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
         data = self.loop.data
         return sum(
             len(
                 self.ik.collisions(
-                    data, q_from + (q_to - q_from) * k / n, ignore, gripper, base, carried
+                    data,
+                    q_from + (q_to - q_from) * k / n,
+                    ignore,
+                    gripper,
+                    base,
+                    carried,
+                    clearance,
                 )
             )
             for k in range(1, n + 1)
@@ -263,6 +272,54 @@ class Arm:
         if np.any(delta):
             target = np.array(self.loop.controller.setpoint) + np.asarray(delta)
             fly_to(self.loop, target, self.loop.config.flight)
+
+    def stow(self) -> Vec:
+        """Stow the arm (:func:`stow_arm`) by a way clear of the UAV and, by
+        :data:`STOW_CLEARANCE`, of everything else: straight in joint space, or through one of
+        :meth:`_stow_vias` (straight, the wrist of an arm reaching out sideways swings
+        through the UAV's body), with the UAV first climbing the least of :data:`CLIMBS`
+        where none is clear from here (the 18 kg arm folding up fast sways the UAV: planned
+        3 cm clear, the elbow swept a mug off the table beside a release). Where no way is
+        clear, the straight one. Returns the climb made (m, world), for the skill to undo
+        with its own UAV moves."""
+        loop = self.loop
+        now = arm_qpos(loop.model, loop.data)
+        goal = np.asarray(c.ARM_STOW, dtype=np.float64)
+        if float(np.max(np.abs(now - goal))) < STOWED_TOL:
+            stow_arm(loop, loop.config.flight)
+            return np.zeros(3)
+        grip = gripper_target(loop.model, loop.data)
+
+        def clear(way: list[Vec], base: Vec) -> bool:
+            legs = zip([now, *way[:-1]], way, strict=True)
+            return not any(
+                self.path_hits(a, b, set(), grip, base, None, STOW_CLEARANCE) for a, b in legs
+            )
+
+        for climb in (np.zeros(3), *CLIMBS):
+            if climb.any() and not self.flight_clear(climb):
+                continue
+            for way in ([goal], *([via, goal] for via in self._stow_vias(now, goal))):
+                if clear(way, climb):
+                    self.shift_base(climb)
+                    for q in way[:-1]:
+                        joint_move(loop, q, loop.config.flight.stow_s)
+                    stow_arm(loop, loop.config.flight)
+                    return climb
+        stow_arm(loop, loop.config.flight)
+        return np.zeros(3)
+
+    @staticmethod
+    def _stow_vias(now: Vec, goal: Vec) -> list[Vec]:
+        """Postures to stow through: the wrist folded first, the base joint turned last, or
+        the base joint turned first."""
+        wrist = now.copy()
+        wrist[4:] = goal[4:]
+        fold = goal.copy()
+        fold[0] = now[0]
+        turn = now.copy()
+        turn[0] = goal[0]
+        return [wrist, fold, turn]
 
     def carry(self, delta: Vec, speed: float) -> None:
         """Fly the UAV by ``delta`` (m, world) at ``speed`` with the arm's targets held, so

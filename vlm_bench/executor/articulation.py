@@ -23,7 +23,6 @@ from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, Arm
 from vlm_bench.executor.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
-from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.constants import part_handle_site, part_joint
 from vlm_bench.types.episode import Episode, PartRef
@@ -169,8 +168,7 @@ class Articulator:
         gap = float(np.dot(base[:2] - tcp[:2], axis[:2]))
         retreat = axis * max(RETREAT, CLEAR_OF_HANDLE - gap)
         arm.carry(retreat, SLIDE_SPEED)
-        stow_arm(loop, loop.config.flight)
-        undo = -(back + retreat)
+        undo = -(back + retreat + arm.stow())
         arm.shift_base(undo if return_xy else np.array([0.0, 0.0, undo[2]]))
 
     def _move_drawer(self, episode: Episode, step: ArmStep, opening: float) -> str | None:
@@ -221,8 +219,7 @@ class Articulator:
         rot = top_down_rotation(heading)
         above = grip + np.array([0.0, 0.0, PRE_HANDLE])
         if not arm.line(above, grip, rot, 1.5, c.GRIPPER_OPEN):
-            stow_arm(loop, loop.config.flight)
-            arm.shift_base(-shift)
+            arm.shift_base(-shift - arm.stow())
             return f"{part.id} is out of reach"
         hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
         start = self.joint(part.id)
@@ -231,8 +228,7 @@ class Articulator:
         turned = math.degrees(self.joint(part.id) - start)
         hold_with_gripper(loop, 0.5, c.GRIPPER_OPEN)
         arm.line(grip, above, rot, 1.0, c.GRIPPER_OPEN)
-        stow_arm(loop, loop.config.flight)
-        arm.shift_base(-shift)
+        arm.shift_base(-shift - arm.stow())
         if turned < TURN_MIN_DEG:
             return f"{part.id} turned only {turned:.0f}°"
         return None

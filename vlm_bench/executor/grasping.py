@@ -20,7 +20,6 @@ from vlm_bench.executor.grasp_points import grasp_points
 from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import HELD_JOINT_SPEED, hold_with_gripper, joint_move
-from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.sim.objects.bounds import geom_bounds, object_bounds, subtree_geoms
@@ -292,8 +291,7 @@ class Grasper:
         retreat = max(RETREAT, float(above[2] - release[2]))  # clear of the rim before stowing
         arm.line(release, release + np.array([0.0, 0.0, retreat]), rot, 1.0, c.GRIPPER_OPEN)
         self._raise_to_carry(rot, c.GRIPPER_OPEN)
-        stow_arm(loop, loop.config.flight)
-        arm.shift_base(-shift)
+        arm.shift_base(-shift - arm.stow())
         return None
 
     def _bring_over(

@@ -12,6 +12,7 @@ Collision checks of candidate solutions run on a scratch copy of the full scene
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 
@@ -80,6 +81,7 @@ class ArmIk:
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
         self.scratch = mujoco.MjData(model)
+        self._wide: dict[float, tuple[mujoco.MjModel, mujoco.MjData]] = {}
         self.qadr = np.array([model.joint(j).qposadr[0] for j in c.ARM_JOINTS])
         self.lo = np.array([model.joint(j).range[0] for j in c.ARM_JOINTS]) + 0.01
         self.hi = np.array([model.joint(j).range[1] for j in c.ARM_JOINTS]) - 0.01
@@ -169,6 +171,17 @@ class ArmIk:
             residual = float(np.linalg.norm(err[:3])) + float(np.linalg.norm(err[3:]))
         return q, residual
 
+    def _checker(self, clearance: float) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        """The model and scratch data collision checks run on: the scene's, or for a
+        ``clearance`` a copy (made once) whose geoms all have it as collision margin."""
+        if clearance <= 0.0:
+            return self.model, self.scratch
+        if clearance not in self._wide:
+            wide = copy.copy(self.model)
+            wide.geom_margin[:] = np.maximum(wide.geom_margin, clearance)
+            self._wide[clearance] = (wide, mujoco.MjData(wide))
+        return self._wide[clearance]
+
     def limit_margin(self, q: Vec) -> float:
         """Smallest distance of ``q`` from the (inset) joint limits (rad)."""
         return float(np.min(np.minimum(q - self.lo, self.hi - q)))
@@ -181,20 +194,24 @@ class ArmIk:
         gripper: float | None = None,
         base: Vec | None = None,
         carried: Carried | None = None,
+        clearance: float = 0.0,
     ) -> list[int]:
         """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
         moved by ``base``), other than the geoms in ``ignore``, and a robot geom for each
         contact of the arm with itself or the UAV (MuJoCo leaves out adjacent links); with
-        ``carried``, the held object moves with the hand and what it would touch counts too."""
-        s = self.scratch
+        ``carried``, the held object moves with the hand and what it would touch counts too.
+        With ``clearance`` (m), non-robot geoms the robot (or the held object) would come
+        closer to than that count as touched (checked on a copy of the model whose geoms have
+        that collision margin)."""
+        model, s = self._checker(clearance)
         s.qpos[:] = data.qpos
         if base is not None:
             s.qpos[self._uav_qadr : self._uav_qadr + 3] += base
         s.qpos[self.qadr] = q
         if gripper is not None:
             for name in c.FINGER_JOINTS:
-                s.qpos[self.model.joint(name).qposadr[0]] = gripper
-        mujoco.mj_kinematics(self.model, s)
+                s.qpos[model.joint(name).qposadr[0]] = gripper
+        mujoco.mj_kinematics(model, s)
         held: set[int] = set()
         if carried is not None:
             tcp, rot = s.site_xpos[self.site], s.site_xmat[self.site].reshape(3, 3)
@@ -202,17 +219,19 @@ class ArmIk:
             mujoco.mju_mat2Quat(quat, (rot @ carried.rotation).ravel())
             s.qpos[carried.qadr : carried.qadr + 3] = tcp + rot @ carried.offset
             s.qpos[carried.qadr + 3 : carried.qadr + 7] = quat
-            mujoco.mj_kinematics(self.model, s)
+            mujoco.mj_kinematics(model, s)
             held = carried.geoms
-        mujoco.mj_collision(self.model, s)
+        mujoco.mj_collision(model, s)
         hits = []
         for i in range(s.ncon):
-            if s.contact.dist[i] > 0.0:
+            dist = float(s.contact.dist[i])
+            if dist > clearance:
                 continue
             g1, g2 = int(s.contact.geom[i][0]), int(s.contact.geom[i][1])
             r1, r2 = g1 in self._robot_geoms or g1 in held, g2 in self._robot_geoms or g2 in held
             if g1 in self._robot_geoms and g2 in self._robot_geoms:
-                hits.append(g1)  # the arm against itself or the UAV: it would jam there
+                if dist <= 0.0:
+                    hits.append(g1)  # the arm against itself or the UAV: it would jam there
             elif r1 != r2:
                 other = g2 if r1 else g1
                 if other not in ignore:

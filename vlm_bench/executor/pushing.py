@@ -20,7 +20,6 @@ from vlm_bench.executor.arm import IK_OK, Arm, Reach
 from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.loop import ArmSkill, SimLoop
 from vlm_bench.executor.motion import hold_with_gripper, joint_move
-from vlm_bench.executor.uav_move import stow_arm
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.types.episode import Episode
@@ -263,8 +262,7 @@ class Pusher:
         hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
         tcp, _ = arm.tcp()
         arm.line(tcp, tcp - unit * 0.03 + np.array([0.0, 0.0, ABOVE]), plan.rot, 1.0, 0.0)
-        stow_arm(loop, loop.config.flight)
-        arm.shift_base(-back)
+        arm.shift_base(-back - arm.stow())
         return ok
 
 
