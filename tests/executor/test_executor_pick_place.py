@@ -206,3 +206,32 @@ def test_the_stow_after_a_release_climbs_clear_of_a_mug_beside_it() -> None:
     assert not any(name.startswith("yellow_mug") for name in outcome.collisions)
     upright = float(loop.data.body("yellow_mug").xmat[8])
     assert math.degrees(math.acos(min(1.0, upright))) < 5.0
+
+
+def test_a_flight_no_turn_clears_climbs_over_a_basket() -> None:
+    """variant_green_nut seed 7: the pick left the arm reaching out low, and the flight to
+    the workbench ended with the forearm in the yellow basket, knocking the nut in the hand
+    onto its rim (it was let go outside). No turn of the base joint clears that flight, so
+    the UAV climbs first and flies higher; nothing touches the basket until the place."""
+    episode = make_episode("variant_green_nut", 7)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    z0 = None
+    for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the nut, fly to the basket
+        if i == 2:
+            z0 = float(loop.controller.setpoint[2])
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert not any(name.startswith("yellow_basket") for name in outcome.collisions)
+    assert z0 is not None and loop.controller.setpoint[2] > z0 + 0.1
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+
+
+def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
+    """variant_chocolate_box seed 8: the way down into the storage box planned for the
+    hand's heading passed the rim 1 mm off; the swaying arm hit it and stopped 6 cm short
+    of the release. A heading whose way down keeps 1 cm clear is now preferred."""
+    episode = make_episode("variant_chocolate_box", 8)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason

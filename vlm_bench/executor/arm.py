@@ -33,6 +33,7 @@ STOW_CLEARANCE = 0.05  # m the stow's planned way keeps from everything, or the 
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
+FLIGHT_CLEARANCE = 0.03  # m a flight with an object in the hand keeps from everything, if it can
 FLIGHT_STEP = 0.05  # m between the collision checks of a flight with an object in the hand
 CARRY_TURNS = tuple(sign * turn for turn in (0.4, 0.8, 1.2, 1.6) for sign in (1.0, -1.0))
 """Turns of the arm's base joint (rad) tried to carry a held object clear of a flight's way."""
@@ -90,6 +91,7 @@ class Arm:
         gripper: float,
         seed: Vec,
         assist: Sequence[Vec] | None = None,
+        clearance: float = 0.0,
     ) -> Reach | None:
         """The straight TCP motion from ``point + approach`` to ``point``: joint angles at
         both ends, the hand's orientation and the UAV move to make first.
@@ -104,6 +106,9 @@ class Arm:
         so does a swing over :data:`HELD_SWING` with an object in the hand).
         Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
         (tried in order; default :meth:`assists`); the best plan over all is returned.
+        With ``clearance`` (m), of the clear plans for one UAV move those whose motion from
+        start to end keeps that far from everything (outside ``ignore``) come first: a hand
+        planned to pass a box's rim 1 mm off hit it, the arm swaying as it stretched down.
         """
         data = self.loop.data
         if assist is None:
@@ -115,7 +120,7 @@ class Arm:
         held = carried.geoms if carried is not None else set()
         starts = [np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)]
         best: Reach | None = None
-        best_key = (math.inf, math.inf, -math.inf)
+        best_key = (math.inf, math.inf, math.inf, -math.inf)
         for shift in assist:
             for rot in rotations:
                 for start in starts:
@@ -134,10 +139,16 @@ class Arm:
                     if carried is not None and widest > HELD_SWING:
                         hits += 1
                     swing = round(widest / SWING_BIN)
-                    key = (float(hits), float(swing), -margin)
+                    graze = hits == 0 and bool(
+                        clearance
+                        and self.path_hits(
+                            q_start, q_end, ignore, gripper, shift, carried, clearance
+                        )
+                    )
+                    key = (float(hits), float(graze), float(swing), -margin)
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
-                    if hits == 0:
+                    if hits == 0 and not graze:
                         break  # other starts would find this branch or one as good
             if best is not None and best_key[0] == 0:
                 return best
@@ -191,31 +202,56 @@ class Arm:
 
     def clear_for_flight(self, travel: Vec) -> float | None:
         """Before the UAV flies ``travel`` (m, world) with an object in the hand: where the
-        object, carried as it hangs now, would meet something on the way (a drawer's front
-        the flight stops at), turn the arm's base joint, smallest turn first, to a posture
-        from which the whole flight is clear. The turn made (rad, 0 for none; undo it with
-        :meth:`turn_back` after the flight), ``None`` where no turn clears the flight."""
+        robot or the object, carried as it hangs now, would come within
+        :data:`FLIGHT_CLEARANCE` of something on the way (a drawer's front the flight stops
+        at), turn the arm's base joint, smallest turn first, to a posture from which the whole
+        flight keeps that clear (else, failing any, merely touches nothing: the flying UAV
+        sways, and a forearm planned to pass a basket 1 cm off knocked a nut in the hand onto
+        its rim). The turn made (rad, 0 for none; undo it with :meth:`turn_back` after the
+        flight), ``None`` where no turn clears the flight."""
         if self.loop.held is None:
             return 0.0
+        now = arm_qpos(self.loop.model, self.loop.data)
+        for clearance in (FLIGHT_CLEARANCE, 0.0):
 
-        def clear(q: Vec) -> bool:
-            return self.flight_clear(travel, q)
+            def clear(q: Vec) -> bool:
+                return self.flight_clear(travel, q, clearance)  # noqa: B023 (used at once)
 
-        if clear(arm_qpos(self.loop.model, self.loop.data)):
-            return 0.0
-        for turn in CARRY_TURNS:
-            if self._turn(turn, clear):
-                return turn
+            if clear(now):
+                return 0.0
+            for turn in CARRY_TURNS:
+                if self._turn(turn, clear):
+                    return turn
         return None
 
-    def flight_clear(self, travel: Vec, q: Vec | None = None) -> bool:
+    def flight_climb(self, travel: Vec) -> Vec:
+        """Where no turn clears a flight of ``travel`` (m, world) with an object in the hand:
+        the least of :data:`CLIMBS` for the UAV to climb first and fly the flight that much
+        higher, both clear (an arm the pick left reaching out low ends the flight in a basket
+        beside its stop); none (zeros) where neither is clear."""
+        for climb in CLIMBS:
+            if self.flight_clear(climb) and self.flight_clear(travel, start=climb):
+                return climb
+        return np.zeros(3)
+
+    def flight_clear(
+        self,
+        travel: Vec,
+        q: Vec | None = None,
+        clearance: float = 0.0,
+        start: Vec | None = None,
+    ) -> bool:
         """Whether the robot, with arm angles ``q`` (default: as now) and the held object
-        carried, touches nothing while the UAV flies ``travel`` (m, world)."""
+        carried, touches nothing (comes no closer than ``clearance``, m) while the UAV flies
+        ``travel`` (m, world), from where it is (or moved by ``start``)."""
         data, carried = self.loop.data, self.carried()
         q = arm_qpos(self.loop.model, data) if q is None else q
         n = max(1, math.ceil(float(np.linalg.norm(travel)) / FLIGHT_STEP))
-        ways = [np.asarray(travel) * k / n for k in range(n + 1)]
-        return not any(self.ik.collisions(data, q, set(), None, b, carried) for b in ways)
+        first = np.zeros(3) if start is None else np.asarray(start)
+        ways = [first + np.asarray(travel) * k / n for k in range(n + 1)]
+        return not any(
+            self.ik.collisions(data, q, set(), None, b, carried, clearance) for b in ways
+        )
 
     def turn_back(self, turn: float | None) -> None:
         """Undo :meth:`clear_for_flight`'s turn of the base joint after the flight, where the

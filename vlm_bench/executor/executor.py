@@ -53,7 +53,8 @@ def run_move(
     """Fly ``step``, stopping for ``arm``, the next ARM step, if any. The arm is stowed first
     unless it holds something: folding a held object up against the arm knocks it out of the
     fingers, so it is carried where the pick lifted it, turned aside (by ``carrier``, the
-    arm's planner) where it would meet something on the way, and turned back after."""
+    arm's planner) where it would meet something on the way, and turned back after; where no
+    turn clears the way, the UAV climbs first and flies that much higher, if that does."""
     ref = refs(loop.data, arm.object, arm.skill, loop.held) if arm else None
     flight = loop.config.flight
     if loop.held is None:
@@ -61,6 +62,11 @@ def run_move(
     start = loop.controller.setpoint.copy()
     target = move_target(start, refs.episode.uav_start.yaw_deg, step, ref)
     turn = carrier.clear_for_flight(target - start) if loop.held and carrier else None
+    if turn is None and loop.held and carrier:
+        climb = carrier.flight_climb(target - start)
+        if climb.any():  # climbed, it flies that much higher
+            fly_to(loop, start + climb, flight)
+            target = target + climb
     fly_to(loop, target, flight)
     if carrier is not None:
         carrier.turn_back(turn)

@@ -35,6 +35,7 @@ MIN_LIFT = 0.08  # m the object must rise for a pick to count
 CARRY_DEPTH = 0.30  # m below the arm base: a held object's TCP height in flight
 SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasped section
 HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
+PLACE_CLEARANCE = 0.01  # m: a way down to a release keeping this clear of the rest is preferred
 GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
 RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
@@ -68,9 +69,12 @@ class Grasper:
         assist: list[Vec] | None = None,
     ) -> Reach | None:
         """The top-down motion from ``point + approach`` down to ``point``, over the four
-        headings equivalent for a box-like object (or a held one)."""
+        headings equivalent for a box-like object (or a held one), preferring those that keep
+        :data:`PLACE_CLEARANCE` from the rest."""
         rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(4)]
-        return self.arm.plan(point, approach, rotations, ignore, gripper, seed, assist)
+        return self.arm.plan(
+            point, approach, rotations, ignore, gripper, seed, assist, PLACE_CLEARANCE
+        )
 
     def _plan_grasp(self, obj: str, kind: ObjectKind) -> tuple[Reach, Vec] | None:
         """The descent onto a grasp point, and the point: the first of the object's grasp
@@ -330,6 +334,7 @@ class Grasper:
             c.GRIPPER_CLOSED,
             now,
             [np.zeros(3)],
+            PLACE_CLEARANCE,
         )
         if keep is not None and not keep.hits and (done := glide(keep)) is not None:
             return done
@@ -337,7 +342,9 @@ class Grasper:
         down = self._descent(release, above, heading, ignore, travel)
         if down is not None and arm.flight_clear(travel):
             arm.shift_base(travel)
-            return down.q_start, down.q_end, down.rotation, shift + travel
+            # Planned again where the UAV settled (a centimetre off puts a hand in a box's wall).
+            way = self._descent(release, above, heading, ignore, np.zeros(3)) or down
+            return way.q_start, way.q_end, way.rotation, shift + travel
         return sol.q_start, sol.q_end, sol.rotation, shift
 
     def _descent(
