@@ -3,6 +3,7 @@ moves, finger-contact tests and small UAV base adjustments, all on one simulatio
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable, Sequence
 from typing import NamedTuple
@@ -213,10 +214,7 @@ class Arm:
             return 0.0
         now = arm_qpos(self.loop.model, self.loop.data)
         for clearance in (FLIGHT_CLEARANCE, 0.0):
-
-            def clear(q: Vec) -> bool:
-                return self.flight_clear(travel, q, clearance)  # noqa: B023 (used at once)
-
+            clear = functools.partial(self.flight_clear, travel, clearance=clearance)
             if clear(now):
                 return 0.0
             for turn in CARRY_TURNS:
@@ -391,7 +389,7 @@ class Arm:
         q = np.array([arm_qpos(self.loop.model, self.loop.data), *postures])
         if float(np.max(np.abs(np.diff(q, axis=0)))) / c.CONTROL_DT > max_speed:
             return None
-        if min(self.ik.limit_margin(p) for p in postures) < margin:
+        if self._near_limit(postures, margin):
             return None
         return postures
 
@@ -412,7 +410,7 @@ class Arm:
         q0 = arm_qpos(self.loop.model, self.loop.data)
         rests = [q0 + (q_end - q0) * s for s in steps]
         path = self._preview(poses, rests)
-        if path is None or min(self.ik.limit_margin(p) for p in path) < GLIDE_MARGIN:
+        if path is None or self._near_limit(path, GLIDE_MARGIN):
             return False  # at a limit, the servo strays off the line
         carried = self.carried()
         zero = np.zeros(3)
@@ -422,6 +420,10 @@ class Arm:
         ):
             return False
         return self.follow(poses, gripper, rests)
+
+    def _near_limit(self, postures: Sequence[Vec], margin: float) -> bool:
+        """Whether a joint comes within ``margin`` (rad) of its limit in one of ``postures``."""
+        return min(self.ik.limit_margin(p) for p in postures) < margin
 
     def _preview(
         self, poses: Sequence[tuple[Vec, Vec]], postures: Sequence[Vec] | None = None

@@ -61,9 +61,10 @@ def run_move(
         stow_arm(loop, flight)
     start = loop.controller.setpoint.copy()
     target = move_target(start, refs.episode.uav_start.yaw_deg, step, ref)
-    turn = carrier.clear_for_flight(target - start) if loop.held and carrier else None
-    if turn is None and loop.held and carrier:
-        climb = carrier.flight_climb(target - start)
+    turn: float | None = 0.0
+    if loop.held is not None and carrier is not None:
+        turn = carrier.clear_for_flight(target - start)
+        climb = carrier.flight_climb(target - start) if turn is None else np.zeros(3)
         if climb.any():  # climbed, it flies that much higher
             fly_to(loop, start + climb, flight)
             target = target + climb

@@ -10,6 +10,7 @@ its support, over the closest edge the arm can reach along a path clear of other
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -165,33 +166,34 @@ class Pusher:
         heading = math.atan2(path.direction[1], path.direction[0])
         rotations = [top_down_rotation(heading + k * math.pi / 2) for k in range(4)]
         ignore = self.arm.body_geoms(obj)
-        blocked = []
+        blocked: list[Reach] = []
+
+        def clear_ways() -> Iterator[Reach]:  # planned one UAV move at a time, as needed
+            for shift in self._assists(start, end):
+                sol = self.arm.plan(
+                    start,
+                    np.array([0.0, 0.0, ABOVE]),
+                    rotations,
+                    ignore,
+                    c.GRIPPER_CLOSED,
+                    np.asarray(TOP_DOWN_SEED),
+                    assist=(shift,),
+                )
+                if sol is not None and sol.hits:
+                    blocked.append(sol)
+                elif sol is not None:
+                    yield sol
+
         carried: PushPlan | None = None
-        for shift in self._assists(start, end):
-            sol = self.arm.plan(
-                start,
-                np.array([0.0, 0.0, ABOVE]),
-                rotations,
-                ignore,
-                c.GRIPPER_CLOSED,
-                np.asarray(TOP_DOWN_SEED),
-                assist=(shift,),
-            )
-            if sol is not None and sol.hits:
-                blocked.append(sol)
-            elif sol is not None:
+        for ways in (clear_ways(), blocked):  # ``blocked`` is complete once the first is done
+            for sol in ways:
                 plan, stroke = self._stroke_plan(sol, start, end, ignore)
                 if plan is not None:
                     return plan
                 carried = carried or stroke
-        if carried is not None:
-            return carried
-        for sol in blocked:
-            plan, stroke = self._stroke_plan(sol, start, end, ignore)
-            if plan is not None:
-                return plan
-            carried = carried or stroke
-        return carried
+            if carried is not None:
+                return carried
+        return None
 
     def _stroke_plan(
         self, sol: Reach, start: Vec, end: Vec, ignore: set[int]
