@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
+from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.arm import Arm
 from vlm_bench.executor.executor import _Run, execute_plan
 from vlm_bench.executor.goals import check_goals
+from vlm_bench.executor.grasping import GRASP_DESCENT, PRE_GRASP, Grasper
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.skills import default_skills
 from vlm_bench.sim import constants as c
@@ -234,4 +237,30 @@ def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     of the release. A heading whose way down keeps 1 cm clear is now preferred."""
     episode = make_episode("variant_chocolate_box", 8)
     result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+
+
+def test_a_grasp_plan_checks_the_line_the_hand_takes() -> None:
+    """variant_teddy_bear seed 4: the straight way down onto the bear took the arm far off
+    the joint-space blend the plan had checked, and the elbow came down on the table. The
+    grasp is now planned on the postures the line commands, and those touch nothing."""
+    episode = make_episode("variant_teddy_bear", 4)
+    scene = build_scene(episode)
+    loop = SimLoop(scene)
+    run = _Run(episode, loop, default_skills(loop))
+    assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
+    grasper = Grasper(loop)
+    kind = next(o.kind for o in episode.objects if o.id == "teddy_bear")
+    plan = grasper._plan_grasp("teddy_bear", object_kind(kind))
+    assert plan is not None
+    reach, point = plan
+    above = point + np.array([0.0, 0.0, PRE_GRASP])
+    arm = grasper.arm
+    path = arm.line_path(
+        reach.q_start, above, point, reach.rotation, reach.q_end, reach.shift, GRASP_DESCENT
+    )
+    assert path is not None
+    ignore = arm.body_geoms("teddy_bear")
+    assert arm.hits_at(path, ignore, c.GRIPPER_OPEN, reach.shift) == 0
+    result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason

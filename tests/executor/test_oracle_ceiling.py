@@ -21,8 +21,6 @@ KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observe
     ("multi_object_sorting", 1): "step 5: gray_basket is out of reach",
     ("slim_object_in_bowl", 2): "goal not met: inside(cleanser, yellow_bowl)",
     ("slim_object_in_bowl", 8): "goal not met: inside(cleanser, yellow_bowl)",
-    ("variant_teddy_bear", 4): "step 1: grasp of teddy_bear failed",
-    ("variant_teddy_bear", 6): "step 1: teddy_bear is out of reach",
     ("variant_tomato_can", 3): "step 2: tomato_can slipped from the gripper",
 }
 

@@ -32,6 +32,7 @@ HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts a
 GLIDE_MARGIN = 0.01  # rad: the nearest a glide may bring a joint to its limit (0: IK's clamp)
 STOW_CLEARANCE = 0.05  # m the stow's planned way keeps from everything, or the UAV climbs
 PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
+LINE_CHECK = 3  # control steps between the collision checks of a planned line
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
 FLIGHT_CLEARANCE = 0.03  # m a flight with an object in the hand keeps from everything, if it can
@@ -93,6 +94,7 @@ class Arm:
         seed: Vec,
         assist: Sequence[Vec] | None = None,
         clearance: float = 0.0,
+        line: float | None = None,
     ) -> Reach | None:
         """The straight TCP motion from ``point + approach`` to ``point``: joint angles at
         both ends, the hand's orientation and the UAV move to make first.
@@ -110,6 +112,11 @@ class Arm:
         With ``clearance`` (m), of the clear plans for one UAV move those whose motion from
         start to end keeps that far from everything (outside ``ignore``) come first: a hand
         planned to pass a box's rim 1 mm off hit it, the arm swaying as it stretched down.
+        The motion from start to end is checked as a joint-space move, or, for a caller that
+        makes it as a :meth:`line` of ``line`` seconds, along the postures that line commands
+        (:meth:`line_path`; its last is the plan's end): from start to end a line can take
+        the arm far off the joint-space blend (a teddy bear's grasp put the elbow on the
+        table).
         """
         data = self.loop.data
         if assist is None:
@@ -132,7 +139,16 @@ class Arm:
                     if res > IK_OK:
                         continue
                     hits = self.path_hits(now, q_start, held, gripper, shift, carried)
-                    hits += self.path_hits(q_start, q_end, ignore, gripper, shift, carried)
+                    if line is None:
+                        way = _joint_samples(q_start, q_end)
+                    else:
+                        path = self.line_path(
+                            q_start, point + approach, point, rot, q_end, shift, line
+                        )
+                        if path is None:
+                            continue  # IK loses the line
+                        way, q_end = [*path[LINE_CHECK - 1 :: LINE_CHECK], path[-1]], path[-1]
+                    hits += self.hits_at(way, ignore, gripper, shift, carried)
                     margin = min(self.ik.limit_margin(q_start), self.ik.limit_margin(q_end))
                     if margin < MIN_MARGIN:  # servos at a joint limit stray off the plan
                         hits += 1
@@ -141,10 +157,7 @@ class Arm:
                         hits += 1
                     swing = round(widest / SWING_BIN)
                     graze = hits == 0 and bool(
-                        clearance
-                        and self.path_hits(
-                            q_start, q_end, ignore, gripper, shift, carried, clearance
-                        )
+                        clearance and self.hits_at(way, ignore, gripper, shift, carried, clearance)
                     )
                     key = (float(hits), float(graze), float(swing), -margin)
                     if key < best_key:
@@ -169,21 +182,23 @@ class Arm:
         (sampled every :data:`PATH_STEP` rad of the widest joint swing, the end included),
         with the UAV moved by ``base`` and ``carried`` in the hand (or, with ``clearance``,
         m, approaches closer than that)."""
-        n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
+        samples = _joint_samples(q_from, q_to)
+        return self.hits_at(samples, ignore, gripper, base, carried, clearance)
+
+    def hits_at(
+        self,
+        postures: Iterable[Vec],
+        ignore: set[int],
+        gripper: float,
+        base: Vec,
+        carried: Carried | None = None,
+        clearance: float = 0.0,
+    ) -> int:
+        """:meth:`path_hits` at each of ``postures``."""
         data = self.loop.data
         return sum(
-            len(
-                self.ik.collisions(
-                    data,
-                    q_from + (q_to - q_from) * k / n,
-                    ignore,
-                    gripper,
-                    base,
-                    carried,
-                    clearance,
-                )
-            )
-            for k in range(1, n + 1)
+            len(self.ik.collisions(data, q, ignore, gripper, base, carried, clearance))
+            for q in postures
         )
 
     def carried(self) -> Carried | None:
@@ -426,20 +441,41 @@ class Arm:
         return min(self.ik.limit_margin(p) for p in postures) < margin
 
     def _preview(
-        self, poses: Sequence[tuple[Vec, Vec]], postures: Sequence[Vec] | None = None
+        self,
+        poses: Sequence[tuple[Vec, Vec]],
+        postures: Sequence[Vec] | None = None,
+        q0: Vec | None = None,
+        base: Vec | None = None,
     ) -> list[Vec] | None:
         """The postures :meth:`follow` would command through ``poses`` (pulled towards
-        ``postures``), solved offline from the posture now; ``None`` where IK loses them."""
+        ``postures``), solved offline from the posture now (or ``q0``, with the UAV moved by
+        ``base``); ``None`` where IK loses them."""
         data = self.loop.data
-        q = arm_qpos(self.loop.model, data)
+        q = arm_qpos(self.loop.model, data) if q0 is None else q0
         out = []
         for i, (point, rotation) in enumerate(poses):
             rest = postures[i] if postures is not None else None
-            q, res = self.ik.solve(data, point, rotation, q, iterations=60, posture=rest)
+            q, res = self.ik.solve(data, point, rotation, q, iterations=60, base=base, posture=rest)
             if res > 3 * IK_OK:
                 return None
             out.append(q)
         return out
+
+    def line_path(
+        self,
+        q0: Vec,
+        start: Vec,
+        end: Vec,
+        rotation: Vec,
+        q_end: Vec,
+        base: Vec,
+        seconds: float,
+    ) -> list[Vec] | None:
+        """The postures :meth:`line` (with ``q_end``) commands from posture ``q0``, the UAV
+        moved by ``base``; ``None`` where IK loses the line."""
+        steps = _steps(seconds)
+        poses = [(start + (end - start) * s, rotation) for s in steps]
+        return self._preview(poses, [q0 + (q_end - q0) * s for s in steps], q0, base)
 
     def line(
         self,
@@ -517,3 +553,10 @@ def _steps(seconds: float) -> list[float]:
     """Minimum-jerk progress at each control step of a ``seconds``-long motion (at least 2)."""
     n = max(2, round(seconds / c.CONTROL_DT))
     return [min_jerk(i / n) for i in range(1, n + 1)]
+
+
+def _joint_samples(q_from: Vec, q_to: Vec) -> list[Vec]:
+    """Postures along the joint-space move ``q_from`` → ``q_to``, every :data:`PATH_STEP` rad
+    of the widest joint swing (at least 4), the end included."""
+    n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
+    return [q_from + (q_to - q_from) * k / n for k in range(1, n + 1)]

@@ -37,6 +37,7 @@ SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasp
 HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing axis
 PLACE_CLEARANCE = 0.01  # m: a way down to a release keeping this clear of the rest is preferred
 GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
+GRASP_DESCENT = 1.5  # s: the hand's straight way down onto a grasp point
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
 RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
 RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at IK's clamp)
@@ -101,6 +102,7 @@ class Grasper:
                 ignore,
                 c.GRIPPER_OPEN,
                 np.asarray(TOP_DOWN_SEED),
+                line=GRASP_DESCENT,
             )
             if sol is None:
                 continue
@@ -152,7 +154,7 @@ class Grasper:
         arm.shift_base(shift)
         joint_move(loop, reach.q_start, 2.5, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
-        if not arm.line(above, grasp, rot, 1.5, c.GRIPPER_OPEN, reach.q_end):
+        if not arm.line(above, grasp, rot, GRASP_DESCENT, c.GRIPPER_OPEN, reach.q_end):
             return f"{obj} is out of reach"
         hold_with_gripper(loop, 0.3, c.GRIPPER_OPEN)
         hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
