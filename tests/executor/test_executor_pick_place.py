@@ -264,3 +264,37 @@ def test_a_grasp_plan_checks_the_line_the_hand_takes() -> None:
     assert arm.hits_at(path, ignore, c.GRIPPER_OPEN, reach.shift) == 0
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
+
+
+def test_a_planned_move_is_checked_densely_along_the_hand(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """color_distractor_green seed 2: the arm's way to above the green cube, checked every
+    0.1 rad of its widest joint swing, swept a finger through the yellow basket's rim between
+    two checks; the pick landed on the rim. Checked every centimetre of the TCP's travel,
+    that way counts contacts, and the pick planned with such checks succeeds."""
+    from vlm_bench.executor import arm as arm_module
+
+    episode = make_episode("color_distractor_green", 2)
+    scene = build_scene(episode)
+    loop = SimLoop(scene)
+    run = _Run(episode, loop, default_skills(loop))
+    assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
+    grasper = Grasper(loop)
+    kind = next(o.kind for o in episode.objects if o.id == "green_cube")
+    with monkeypatch.context() as patch:
+        patch.setattr(arm_module, "PATH_TRAVEL", 10.0)  # joint-space spacing alone
+        coarse = grasper._plan_grasp("green_cube", object_kind(kind))
+    assert coarse is not None and coarse[0].hits == 0
+    arm, now = grasper.arm, arm_qpos(scene.model, scene.data)
+    basket = arm.body_geoms("yellow_basket")
+    hit = arm.ik.collisions
+    assert arm.path_hits(now, coarse[0].q_start, set(), c.GRIPPER_OPEN, coarse[0].shift) > 0
+    seen = {
+        g
+        for q in arm._joint_samples(now, coarse[0].q_start, coarse[0].shift)
+        for g in hit(scene.data, q, set(), c.GRIPPER_OPEN, coarse[0].shift)
+    }
+    assert seen & basket
+    result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
+    assert result.exec_success, result.failure_reason

@@ -15,7 +15,6 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("color_distractor_green", 2): "step 1: grasp of green_cube failed",
     ("drawer_interaction", 3): "step 8: top_drawer is out of reach",
     ("function_detergent", 9): "goal not met: inside(cleanser, yellow_bowl)",
     ("multi_object_sorting", 1): "step 5: gray_basket is out of reach",

@@ -31,8 +31,9 @@ HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts a
 # (a bottle hung by its cap slipped out of the fingers in a 4.9 rad turn of the base joint)
 GLIDE_MARGIN = 0.01  # rad: the nearest a glide may bring a joint to its limit (0: IK's clamp)
 STOW_CLEARANCE = 0.05  # m the stow's planned way keeps from everything, or the UAV climbs
-PATH_STEP = 0.1  # rad between the collision checks of a joint-space move
-LINE_CHECK = 3  # control steps between the collision checks of a planned line
+PATH_STEP = 0.1  # rad of the widest joint swing between the collision checks of a joint-space
+PATH_TRAVEL = 0.01  # move, or m of the TCP's travel where that is farther (a finger swept
+# through a basket's rim between two checks 0.1 rad apart)
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
 FLIGHT_CLEARANCE = 0.03  # m a flight with an object in the hand keeps from everything, if it can
@@ -140,14 +141,14 @@ class Arm:
                         continue
                     hits = self.path_hits(now, q_start, held, gripper, shift, carried)
                     if line is None:
-                        way = _joint_samples(q_start, q_end)
+                        way = self._joint_samples(q_start, q_end, shift)
                     else:
                         path = self.line_path(
                             q_start, point + approach, point, rot, q_end, shift, line
                         )
                         if path is None:
                             continue  # IK loses the line
-                        way, q_end = [*path[LINE_CHECK - 1 :: LINE_CHECK], path[-1]], path[-1]
+                        way, q_end = path, path[-1]  # each control step's posture
                     hits += self.hits_at(way, ignore, gripper, shift, carried)
                     margin = min(self.ik.limit_margin(q_start), self.ik.limit_margin(q_end))
                     if margin < MIN_MARGIN:  # servos at a joint limit stray off the plan
@@ -179,11 +180,27 @@ class Arm:
         clearance: float = 0.0,
     ) -> int:
         """Contacts outside ``ignore`` along the joint-space move ``q_from`` → ``q_to``
-        (sampled every :data:`PATH_STEP` rad of the widest joint swing, the end included),
+        (sampled every :data:`PATH_STEP` rad of the widest joint swing or
+        :data:`PATH_TRAVEL` m of the TCP's travel, whichever is closer, the end included),
         with the UAV moved by ``base`` and ``carried`` in the hand (or, with ``clearance``,
         m, approaches closer than that)."""
-        samples = _joint_samples(q_from, q_to)
+        samples = self._joint_samples(q_from, q_to, base, clearance)
         return self.hits_at(samples, ignore, gripper, base, carried, clearance)
+
+    def _joint_samples(
+        self, q_from: Vec, q_to: Vec, base: Vec, clearance: float = 0.0
+    ) -> list[Vec]:
+        """Postures along the joint-space move ``q_from`` → ``q_to`` (UAV moved by ``base``)
+        for :meth:`path_hits`, evenly spaced, the end included; a check for ``clearance``
+        (m) needs them no closer than that."""
+        n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
+        tcp = [
+            self.ik.tcp_at(self.loop.data, q_from + (q_to - q_from) * k / n, base)
+            for k in range(n + 1)
+        ]
+        longest = float(np.max(np.linalg.norm(np.diff(tcp, axis=0), axis=1)))
+        n = max(n, math.ceil(n * longest / max(PATH_TRAVEL, clearance)))
+        return [q_from + (q_to - q_from) * k / n for k in range(1, n + 1)]
 
     def hits_at(
         self,
@@ -553,10 +570,3 @@ def _steps(seconds: float) -> list[float]:
     """Minimum-jerk progress at each control step of a ``seconds``-long motion (at least 2)."""
     n = max(2, round(seconds / c.CONTROL_DT))
     return [min_jerk(i / n) for i in range(1, n + 1)]
-
-
-def _joint_samples(q_from: Vec, q_to: Vec) -> list[Vec]:
-    """Postures along the joint-space move ``q_from`` → ``q_to``, every :data:`PATH_STEP` rad
-    of the widest joint swing (at least 4), the end included."""
-    n = max(4, math.ceil(float(np.max(np.abs(q_to - q_from))) / PATH_STEP))
-    return [q_from + (q_to - q_from) * k / n for k in range(1, n + 1)]

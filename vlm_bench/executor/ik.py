@@ -182,6 +182,16 @@ class ArmIk:
             self._wide[clearance] = (wide, mujoco.MjData(wide))
         return self._wide[clearance]
 
+    def tcp_at(self, data: mujoco.MjData, q: Vec, base: Vec | None = None) -> Vec:
+        """Where the TCP would be with arm angles ``q`` (UAV moved by ``base``), world."""
+        s = self.scratch
+        s.qpos[:] = data.qpos
+        if base is not None:
+            s.qpos[self._uav_qadr : self._uav_qadr + 3] += base
+        s.qpos[self.qadr] = q
+        mujoco.mj_kinematics(self.model, s)
+        return np.array(s.site_xpos[self.site])
+
     def limit_margin(self, q: Vec) -> float:
         """Smallest distance of ``q`` from the (inset) joint limits (rad)."""
         return float(np.min(np.minimum(q - self.lo, self.hi - q)))
