@@ -298,3 +298,23 @@ def test_a_planned_move_is_checked_densely_along_the_hand(
     assert seen & basket
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
+
+
+def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
+    """multi_object_sorting seed 1: the UAV stopped 1 cm from right above the gray basket,
+    where no top-down reach gets (the elbow folds onto its limit), and every move to one of
+    the working radii was longer than a skill may fly. The UAV now backs off as far as it
+    may, and the cube is put in the basket."""
+    from vlm_bench.executor.arm import MAX_ASSIST, WORK_RADII
+
+    episode = make_episode("multi_object_sorting", 1)
+    scene = build_scene(episode)
+    arm = Arm(SimLoop(scene))
+    base = scene.data.body(c.ARM_BASE_BODY).xpos
+    point = base + np.array([0.002, 0.002, -0.7])  # 3 mm off right below the base
+    level = [m for m in arm.assists(point) if m[2] == 0.0 and np.hypot(m[0], m[1]) > 0.0]
+    assert level, "no horizontal move offered"
+    assert max(float(np.linalg.norm(m)) for m in level) == pytest.approx(MAX_ASSIST)
+    assert min(float(np.linalg.norm(m)) for m in level) <= WORK_RADII[0]
+    result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
+    assert result.exec_success, result.failure_reason

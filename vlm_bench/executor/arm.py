@@ -319,14 +319,18 @@ class Arm:
     def assists(self, point: Vec) -> list[Vec]:
         """UAV moves that may bring ``point`` into the arm's top-down workspace, smallest
         first: none and small descents; horizontal moves putting the point at one of
-        :data:`WORK_RADII` from the arm base (with and without a descent); last, climbs, so
+        :data:`WORK_RADII` from the arm base, or as near as :data:`MAX_ASSIST` allows (a
+        basket right under the UAV ends 0.35 m out), with and without a descent; last, climbs, so
         the arm reaches down into a deep opening (an open drawer under its tall front) from
         above rather than across its rim. Close under the base a top-down reach folds the
         elbow onto its limit; far out the arm stretches."""
-        radial = []
+        radial: list[Vec] = []
         for radius in WORK_RADII:
             move = self.back_off(point, math.inf, radius)
-            if move is not None and 0.04 < np.linalg.norm(move) <= MAX_ASSIST:
+            if move is None or np.linalg.norm(move) <= 0.04:
+                continue
+            move *= min(1.0, MAX_ASSIST / float(np.linalg.norm(move)))  # (right under it)
+            if not any(np.allclose(move, m, atol=0.01) for m in radial):
                 radial.append(move)
         radial.sort(key=lambda m: float(np.linalg.norm(m)))
         level = [move + dz for move in radial for dz in BASE_ASSIST[:2]]
