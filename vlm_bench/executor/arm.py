@@ -31,9 +31,9 @@ HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts a
 # (a bottle hung by its cap slipped out of the fingers in a 4.9 rad turn of the base joint)
 GLIDE_MARGIN = 0.01  # rad: the nearest a glide may bring a joint to its limit (0: IK's clamp)
 STOW_CLEARANCE = 0.05  # m the stow's planned way keeps from everything, or the UAV climbs
-PATH_STEP = 0.1  # rad of the widest joint swing between the collision checks of a joint-space
-PATH_TRAVEL = 0.01  # move, or m of the TCP's travel where that is farther (a finger swept
-# through a basket's rim between two checks 0.1 rad apart)
+PATH_STEP = 0.1  # rad of the widest joint swing between the checks of a joint-space move...
+PATH_TRAVEL = 0.01  # ...or m of the TCP's travel, where that is closer (a finger swept through
+# a basket's rim between two checks 0.1 rad apart)
 CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
 FLIGHT_CLEARANCE = 0.03  # m a flight with an object in the hand keeps from everything, if it can
@@ -140,6 +140,12 @@ class Arm:
                     if res > IK_OK:
                         continue
                     hits = self.path_hits(now, q_start, held, gripper, shift, carried)
+                    margin = self.ik.limit_margin(q_start)
+                    widest = float(np.max(np.abs(q_start - now)))
+                    hits += self._strain(margin, widest, carried is not None)
+                    swing = round(widest / SWING_BIN)
+                    if hits and (hits, 0.0, swing, -margin) >= best_key:
+                        continue  # the way down only adds contacts: it cannot do better
                     if line is None:
                         way = self._joint_samples(q_start, q_end, shift)
                     else:
@@ -150,13 +156,9 @@ class Arm:
                             continue  # IK loses the line
                         way, q_end = path, path[-1]  # each control step's posture
                     hits += self.hits_at(way, ignore, gripper, shift, carried)
-                    margin = min(self.ik.limit_margin(q_start), self.ik.limit_margin(q_end))
-                    if margin < MIN_MARGIN:  # servos at a joint limit stray off the plan
+                    if margin >= MIN_MARGIN > self.ik.limit_margin(q_end):
                         hits += 1
-                    widest = float(np.max(np.abs(q_start - now)))
-                    if carried is not None and widest > HELD_SWING:
-                        hits += 1
-                    swing = round(widest / SWING_BIN)
+                    margin = min(margin, self.ik.limit_margin(q_end))
                     graze = hits == 0 and bool(
                         clearance and self.hits_at(way, ignore, gripper, shift, carried, clearance)
                     )
@@ -168,6 +170,13 @@ class Arm:
             if best is not None and best_key[0] == 0:
                 return best
         return best
+
+    @staticmethod
+    def _strain(margin: float, widest: float, holding: bool) -> int:
+        """Contacts a plan counts for a posture ``margin`` (rad) from a joint limit (under
+        :data:`MIN_MARGIN` a servo strays off the plan) and, ``holding`` an object, for a
+        swing wider than :data:`HELD_SWING` (rad) to its start."""
+        return int(margin < MIN_MARGIN) + int(holding and widest > HELD_SWING)
 
     def path_hits(
         self,
@@ -329,7 +338,7 @@ class Arm:
             move = self.back_off(point, math.inf, radius)
             if move is None or np.linalg.norm(move) <= 0.04:
                 continue
-            move *= min(1.0, MAX_ASSIST / float(np.linalg.norm(move)))  # (right under it)
+            move *= min(1.0, MAX_ASSIST / float(np.linalg.norm(move)))  # no farther than that
             if not any(np.allclose(move, m, atol=0.01) for m in radial):
                 radial.append(move)
         radial.sort(key=lambda m: float(np.linalg.norm(m)))
