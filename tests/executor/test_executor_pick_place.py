@@ -7,7 +7,8 @@ import pytest
 
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.generate import make_episode
-from vlm_bench.executor.arm import Arm
+from vlm_bench.executor import arm as arm_module
+from vlm_bench.executor.arm import MAX_ASSIST, WORK_RADII, Arm
 from vlm_bench.executor.executor import _Run, execute_plan
 from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.grasping import GRASP_DESCENT, PRE_GRASP, Grasper
@@ -17,6 +18,8 @@ from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.sim.scene import build_scene
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.world import ObjectKind
 
 
 def test_gt_plan_container_geometry_bowl_seed0_reaches_goal() -> None:
@@ -240,18 +243,25 @@ def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     assert result.exec_success, result.failure_reason
 
 
+def _grasper_after_the_flight(task: str, seed: int) -> tuple[Episode, Grasper]:
+    """The episode and a grasper on its scene after the GT plan's first step (a UAV move)."""
+    episode = make_episode(task, seed)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
+    return episode, Grasper(loop)
+
+
+def _kind(episode: Episode, obj: str) -> ObjectKind:
+    return object_kind(next(o.kind for o in episode.objects if o.id == obj))
+
+
 def test_a_grasp_plan_checks_the_line_the_hand_takes() -> None:
     """variant_teddy_bear seed 4: the straight way down onto the bear took the arm far off
     the joint-space blend the plan had checked, and the elbow came down on the table. The
     grasp is now planned on the postures the line commands, and those touch nothing."""
-    episode = make_episode("variant_teddy_bear", 4)
-    scene = build_scene(episode)
-    loop = SimLoop(scene)
-    run = _Run(episode, loop, default_skills(loop))
-    assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
-    grasper = Grasper(loop)
-    kind = next(o.kind for o in episode.objects if o.id == "teddy_bear")
-    plan = grasper._plan_grasp("teddy_bear", object_kind(kind))
+    episode, grasper = _grasper_after_the_flight("variant_teddy_bear", 4)
+    plan = grasper._plan_grasp("teddy_bear", _kind(episode, "teddy_bear"))
     assert plan is not None
     reach, point = plan
     above = point + np.array([0.0, 0.0, PRE_GRASP])
@@ -273,27 +283,19 @@ def test_a_planned_move_is_checked_densely_along_the_hand(
     0.1 rad of its widest joint swing, swept a finger through the yellow basket's rim between
     two checks; the pick landed on the rim. Checked every centimetre of the TCP's travel,
     that way counts contacts, and the pick planned with such checks succeeds."""
-    from vlm_bench.executor import arm as arm_module
-
-    episode = make_episode("color_distractor_green", 2)
-    scene = build_scene(episode)
-    loop = SimLoop(scene)
-    run = _Run(episode, loop, default_skills(loop))
-    assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
-    grasper = Grasper(loop)
-    kind = next(o.kind for o in episode.objects if o.id == "green_cube")
+    episode, grasper = _grasper_after_the_flight("color_distractor_green", 2)
     with monkeypatch.context() as patch:
         patch.setattr(arm_module, "PATH_TRAVEL", 10.0)  # joint-space spacing alone
-        coarse = grasper._plan_grasp("green_cube", object_kind(kind))
+        coarse = grasper._plan_grasp("green_cube", _kind(episode, "green_cube"))
     assert coarse is not None and coarse[0].hits == 0
-    arm, now = grasper.arm, arm_qpos(scene.model, scene.data)
+    arm, data = grasper.arm, grasper.loop.data
+    now = arm_qpos(grasper.loop.model, data)
     basket = arm.body_geoms("yellow_basket")
-    hit = arm.ik.collisions
     assert arm.path_hits(now, coarse[0].q_start, set(), c.GRIPPER_OPEN, coarse[0].shift) > 0
     seen = {
         g
         for q in arm._joint_samples(now, coarse[0].q_start, coarse[0].shift)
-        for g in hit(scene.data, q, set(), c.GRIPPER_OPEN, coarse[0].shift)
+        for g in arm.ik.collisions(data, q, set(), c.GRIPPER_OPEN, coarse[0].shift)
     }
     assert seen & basket
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
@@ -305,8 +307,6 @@ def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
     where no top-down reach gets (the elbow folds onto its limit), and every move to one of
     the working radii was longer than a skill may fly. The UAV now backs off as far as it
     may, and the cube is put in the basket."""
-    from vlm_bench.executor.arm import MAX_ASSIST, WORK_RADII
-
     episode = make_episode("multi_object_sorting", 1)
     scene = build_scene(episode)
     arm = Arm(SimLoop(scene))

@@ -182,15 +182,19 @@ class ArmIk:
             self._wide[clearance] = (wide, mujoco.MjData(wide))
         return self._wide[clearance]
 
-    def tcp_at(self, data: mujoco.MjData, q: Vec, base: Vec | None = None) -> Vec:
-        """Where the TCP would be with arm angles ``q`` (UAV moved by ``base``), world."""
-        s = self.scratch
+    def _pose(self, s: mujoco.MjData, data: mujoco.MjData, q: Vec, base: Vec | None) -> None:
+        """Scratch ``s`` set to the scene's state with arm angles ``q`` (UAV moved by
+        ``base``); kinematics not yet run."""
         s.qpos[:] = data.qpos
         if base is not None:
             s.qpos[self._uav_qadr : self._uav_qadr + 3] += base
         s.qpos[self.qadr] = q
-        mujoco.mj_kinematics(self.model, s)
-        return np.array(s.site_xpos[self.site])
+
+    def tcp_at(self, data: mujoco.MjData, q: Vec, base: Vec | None = None) -> Vec:
+        """Where the TCP would be with arm angles ``q`` (UAV moved by ``base``), world."""
+        self._pose(self.scratch, data, q, base)
+        mujoco.mj_kinematics(self.model, self.scratch)
+        return np.array(self.scratch.site_xpos[self.site])
 
     def limit_margin(self, q: Vec) -> float:
         """Smallest distance of ``q`` from the (inset) joint limits (rad)."""
@@ -214,10 +218,7 @@ class ArmIk:
         closer to than that count as touched (checked on a copy of the model whose geoms have
         that collision margin)."""
         model, s = self._checker(clearance)
-        s.qpos[:] = data.qpos
-        if base is not None:
-            s.qpos[self._uav_qadr : self._uav_qadr + 3] += base
-        s.qpos[self.qadr] = q
+        self._pose(s, data, q, base)
         if gripper is not None:
             for name in c.FINGER_JOINTS:
                 s.qpos[model.joint(name).qposadr[0]] = gripper
