@@ -63,3 +63,14 @@ def test_the_way_down_to_a_push_keeps_off_the_cube() -> None:
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
     assert result.goals == (True,)
+
+
+def test_a_push_stroke_is_planned_along_the_line_the_hand_takes() -> None:
+    """abstract_intent_clear seed 7: the stroke was planned from its end posture alone; IK
+    lost the line halfway, the UAV carried the hand the rest of the way, drifted 3 cm sideways
+    and slid it past the box, which stayed on the table. The stroke's line is now previewed,
+    and where IK cannot follow it the UAV carries the hand from the start."""
+    episode = make_episode("abstract_intent_clear", 7)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+    assert result.goals == (True,)

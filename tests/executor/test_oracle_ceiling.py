@@ -15,7 +15,6 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("abstract_intent_clear", 7): "goal not met: off_surface(white_box, table)",
     ("drawer_interaction", 3): "step 8: top_drawer is out of reach",
     ("function_detergent", 9): "goal not met: inside(cleanser, yellow_bowl)",
     ("slim_object_in_bowl", 2): "goal not met: inside(cleanser, yellow_bowl)",

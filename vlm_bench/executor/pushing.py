@@ -36,19 +36,28 @@ MIN_MOVE = 0.5  # fraction of the commanded travel the object must move for a pu
 CLEARANCE = 0.01  # m kept between the pushed object's swept box and other objects
 WORK_RADIUS = 0.40  # m, horizontal: the UAV may back away until the push's midpoint is this far
 MAX_BACK = 0.2  # m the UAV may back away along the push
+DESCENT = 1.2  # s: the hand's straight way down to the push height
 
 
 @dataclass(frozen=True)
 class PushPlan:
-    """A feasible push: pre-push posture above the start, hand orientation, the UAV's move
-    before it, the TCP's start and end, and whether the UAV carries the hand along."""
+    """A feasible push: pre-push posture above the start, the posture at the start at the
+    end of the planned way down, hand orientation, the UAV's move before it, the TCP's start
+    and end, and whether the UAV carries the hand along."""
 
     q_pre: Vec
+    q_down: Vec
     rot: Vec
     shift: Vec
     start: Vec
     end: Vec
-    carried: bool
+    q_end: Vec | None
+    """The posture at the stroke's end (by the arm alone), ``None``: the UAV carries the hand."""
+
+    @property
+    def carried(self) -> bool:
+        """Whether the UAV carries the hand along the stroke."""
+        return self.q_end is None
 
 
 @dataclass(frozen=True)
@@ -178,6 +187,7 @@ class Pusher:
                     c.GRIPPER_CLOSED,
                     np.asarray(TOP_DOWN_SEED),
                     assist=(shift,),
+                    line=DESCENT,
                 )
                 if sol is not None and sol.hits:
                     blocked.append(sol)
@@ -199,17 +209,20 @@ class Pusher:
         self, sol: Reach, start: Vec, end: Vec, ignore: set[int]
     ) -> tuple[PushPlan | None, PushPlan | None]:
         """From a planned way down to the push's ``start``: the push by the arm alone where
-        it reaches ``end`` touching nothing but the object, else ``None`` and the push with
-        the UAV carrying the start posture along, where that start is clear."""
-        data, ik, shift = self.loop.data, self.arm.ik, sol.shift
-        q_pre, rot = sol.q_start, sol.rotation
-        q_end, res = self.arm.solve_any(end, rot, q_pre, shift)
+        IK follows the stroke's line to ``end`` touching nothing but the object, else ``None``
+        and the push with the UAV carrying the start posture along, where that start is clear
+        (planned from the end alone, the arm lost the line halfway and the UAV, carrying the
+        rest, slid the hand past the box)."""
+        data, ik, arm, shift = self.loop.data, self.arm.ik, self.arm, sol.shift
+        q_pre, q_down, rot = sol.q_start, sol.q_end, sol.rotation
+        q_end, res = arm.solve_any(end, rot, q_down, shift)
         if res <= IK_OK and not ik.collisions(data, q_end, ignore, c.GRIPPER_CLOSED, shift):
-            return PushPlan(q_pre, rot, shift, start, end, carried=False), None
-        q_start, res = self.arm.solve_any(start, rot, q_pre, shift)
+            way = arm.line_path(q_down, start, end, rot, q_end, shift, _stroke_seconds(start, end))
+            if way is not None and not arm.hits_at(way, ignore, c.GRIPPER_CLOSED, shift):
+                return PushPlan(q_pre, q_down, rot, shift, start, end, way[-1]), None
         moved = shift + (end - start)
-        if res <= IK_OK and not ik.collisions(data, q_start, ignore, c.GRIPPER_CLOSED, moved):
-            return None, PushPlan(q_pre, rot, shift, start, end, carried=True)
+        if not ik.collisions(data, q_down, ignore, c.GRIPPER_CLOSED, moved):
+            return None, PushPlan(q_pre, q_down, rot, shift, start, end, None)
         return None, None
 
     def push(self, episode: Episode, step: ArmStep) -> str | None:
@@ -249,14 +262,14 @@ class Pusher:
         arm.shift_base(plan.shift)
         joint_move(loop, plan.q_pre, 2.5, c.GRIPPER_CLOSED)
         above = plan.start + np.array([0.0, 0.0, ABOVE])
-        ok = arm.line(above, plan.start, plan.rot, 1.2, c.GRIPPER_CLOSED)
+        ok = arm.line(above, plan.start, plan.rot, DESCENT, c.GRIPPER_CLOSED, plan.q_down)
         stroke = plan.end - plan.start
-        seconds = max(1.5, float(np.linalg.norm(stroke)) / SPEED)
         unit = stroke / max(float(np.linalg.norm(stroke)), 1e-9)
         back = plan.shift
         if ok:
-            if not plan.carried:  # IK may lose the line before its end...
-                arm.line(plan.start, plan.end, plan.rot, seconds, c.GRIPPER_CLOSED)
+            if plan.q_end is not None:  # the box may hold the hand back...
+                seconds = _stroke_seconds(plan.start, plan.end)
+                arm.line(plan.start, plan.end, plan.rot, seconds, c.GRIPPER_CLOSED, plan.q_end)
             rest = float(np.dot(plan.end - arm.tcp()[0], unit))
             if rest > 0.01:  # ...then the UAV carries the hand the rest of the way
                 arm.carry(unit * rest, SPEED)
@@ -266,6 +279,11 @@ class Pusher:
         arm.line(tcp, tcp - unit * 0.03 + np.array([0.0, 0.0, ABOVE]), plan.rot, 1.0, 0.0)
         arm.shift_base(-back - arm.stow())
         return ok
+
+
+def _stroke_seconds(start: Vec, end: Vec) -> float:
+    """How long the stroke from ``start`` to ``end`` takes at :data:`SPEED` (at least 1.5 s)."""
+    return max(1.5, float(np.linalg.norm(end - start)) / SPEED)
 
 
 def push_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
