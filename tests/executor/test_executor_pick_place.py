@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -11,7 +13,7 @@ from vlm_bench.executor import arm as arm_module
 from vlm_bench.executor.arm import MAX_ASSIST, WORK_RADII, Arm
 from vlm_bench.executor.executor import _Run, execute_plan
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.grasping import GRASP_DESCENT, PRE_GRASP, Grasper
+from vlm_bench.executor.grasping import GRASP_DESCENT, GRASP_MARGIN, PRE_GRASP, Grasper
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.skills import default_skills
 from vlm_bench.sim import constants as c
@@ -318,3 +320,36 @@ def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
     assert min(float(np.linalg.norm(m)) for m in level) <= WORK_RADII[0]
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
+
+
+def test_a_grasp_keeps_room_from_the_joint_limits() -> None:
+    """variant_tomato_can seed 3: the can lay close under the arm base; the grasp posture
+    left the base joint 0.11 rad off its limit, the lift and raise took it to 0.02, and no way
+    to the bowl was left but a swing that flung the can. A grasp nearer a limit than
+    GRASP_MARGIN now counts as a contact, and the UAV moves for one with room."""
+    episode, grasper = _grasper_after_the_flight("variant_tomato_can", 3)
+    plan = grasper._plan_grasp("tomato_can", _kind(episode, "tomato_can"))
+    assert plan is not None
+    reach, _ = plan
+    assert reach.hits == 0
+    ik = grasper.arm.ik
+    assert min(ik.limit_margin(reach.q_start), ik.limit_margin(reach.q_end)) >= GRASP_MARGIN
+    result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
+    assert result.exec_success, result.failure_reason
+
+
+@pytest.mark.parametrize(("task", "seed"), [("slim_object_in_bowl", 2), ("function_detergent", 9)])
+def test_a_tall_object_is_set_down_standing_in_the_bowl(task: str, seed: int) -> None:
+    """The 21 cm cleanser, held by its nozzle 1.5 cm off its base's middle, was let go 2 cm
+    above the bowl's curved floor with the hand over the bowl's centre: it rocked, toppled
+    over the rim and tipped the bowl. Its base's middle now goes over the centre and the hand
+    lowers it until it touches, so it stays standing inside."""
+    episode = make_episode(task, seed)
+    tilt: list[float] = []
+    result = execute_plan(
+        episode,
+        episode.gt_plan,
+        observers=[lambda loop: tilt.append(float(loop.data.body("cleanser").xmat[8]))],
+    )
+    assert result.exec_success, result.failure_reason
+    assert tilt[-1] > math.cos(math.radians(20))  # standing, not leaning on the rim

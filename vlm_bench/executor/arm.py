@@ -96,6 +96,7 @@ class Arm:
         assist: Sequence[Vec] | None = None,
         clearance: float = 0.0,
         line: float | None = None,
+        margin: float = MIN_MARGIN,
     ) -> Reach | None:
         """The straight TCP motion from ``point + approach`` to ``point``: joint angles at
         both ends, the hand's orientation and the UAV move to make first.
@@ -106,8 +107,9 @@ class Arm:
         its joint-space moves (now to the start, start to end) with the held object carried,
         and the plans compared by contacts on the way, then by the widest joint swing from
         now (a wide swing can fling a held object), then by the margin from the joint limits
-        (under :data:`MIN_MARGIN` counts as a contact: a servo at its limit strays off the plan;
-        so does a swing over :data:`HELD_SWING` with an object in the hand).
+        (under ``margin``, default :data:`MIN_MARGIN`, counts as a contact: a servo at its limit
+        strays off the plan; so does a swing over :data:`HELD_SWING` with an object in the
+        hand).
         Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
         (tried in order; default :meth:`assists`); the best plan over all is returned.
         With ``clearance`` (m), of the clear plans for one UAV move those whose motion from
@@ -140,11 +142,11 @@ class Arm:
                     if res > IK_OK:
                         continue
                     hits = self.path_hits(now, q_start, held, gripper, shift, carried)
-                    margin = self.ik.limit_margin(q_start)
+                    room = self.ik.limit_margin(q_start)
                     widest = float(np.max(np.abs(q_start - now)))
-                    hits += self._strain(margin, widest, carried is not None)
+                    hits += self._strain(room, widest, carried is not None, margin)
                     swing = round(widest / SWING_BIN)
-                    if hits and (hits, 0.0, swing, -margin) >= best_key:
+                    if hits and (hits, 0.0, swing, -room) >= best_key:
                         continue  # the way down only adds contacts: it cannot do better
                     if line is None:
                         way = self._joint_samples(q_start, q_end, shift)
@@ -156,13 +158,13 @@ class Arm:
                             continue  # IK loses the line
                         way, q_end = path, path[-1]  # each control step's posture
                     hits += self.hits_at(way, ignore, gripper, shift, carried)
-                    if margin >= MIN_MARGIN > self.ik.limit_margin(q_end):
+                    if room >= margin > self.ik.limit_margin(q_end):
                         hits += 1
-                    margin = min(margin, self.ik.limit_margin(q_end))
+                    room = min(room, self.ik.limit_margin(q_end))
                     graze = hits == 0 and bool(
                         clearance and self.hits_at(way, ignore, gripper, shift, carried, clearance)
                     )
-                    key = (float(hits), float(graze), float(swing), -margin)
+                    key = (float(hits), float(graze), float(swing), -room)
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
                     if hits == 0 and not graze:
@@ -172,11 +174,11 @@ class Arm:
         return best
 
     @staticmethod
-    def _strain(margin: float, widest: float, holding: bool) -> int:
-        """Contacts a plan counts for a posture ``margin`` (rad) from a joint limit (under
-        :data:`MIN_MARGIN` a servo strays off the plan) and, ``holding`` an object, for a
-        swing wider than :data:`HELD_SWING` (rad) to its start."""
-        return int(margin < MIN_MARGIN) + int(holding and widest > HELD_SWING)
+    def _strain(room: float, widest: float, holding: bool, margin: float = MIN_MARGIN) -> int:
+        """Contacts a plan counts for a posture ``room`` (rad) from a joint limit (under
+        ``margin`` a servo strays off the plan) and, ``holding`` an object, for a swing wider
+        than :data:`HELD_SWING` (rad) to its start."""
+        return int(room < margin) + int(holding and widest > HELD_SWING)
 
     def path_hits(
         self,
@@ -555,14 +557,16 @@ class Arm:
 
     def touching(self, geoms: set[int]) -> bool:
         """Whether both fingers touch one of ``geoms``."""
-        hit = {"l": False, "r": False}
+        return all(self.in_contact(fingers, geoms) for fingers in self._fingers.values())
+
+    def in_contact(self, geoms: set[int], others: set[int]) -> bool:
+        """Whether one of ``geoms`` touches one of ``others`` now."""
         d = self.loop.data
         for i in range(d.ncon):
             g1, g2 = int(d.contact.geom[i][0]), int(d.contact.geom[i][1])
-            for side, fingers in self._fingers.items():
-                if (g1 in fingers and g2 in geoms) or (g2 in fingers and g1 in geoms):
-                    hit[side] = True
-        return hit["l"] and hit["r"]
+            if (g1 in geoms and g2 in others) or (g2 in geoms and g1 in others):
+                return True
+        return False
 
     def outward_axis(self, body: str) -> Vec:
         """``body``'s x axis made horizontal and unit (a cabinet's front normal), world."""

@@ -38,9 +38,15 @@ HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing
 PLACE_CLEARANCE = 0.01  # m: a way down to a release keeping this clear of the rest is preferred
 GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
 GRASP_DESCENT = 1.5  # s: the hand's straight way down onto a grasp point
+GRASP_MARGIN = 0.15  # rad: a grasp posture nearer a joint limit counts as a contact (the lift
+# and raise of a can grasped 0.11 rad off the base joint's limit took it to 0.02, and no way to
+# the bowl was left but a swing that flung the can)
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
 RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
 RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at IK's clamp)
+TALL = 2.0  # height over the narrowest side of the base: such an object is set down, not dropped
+SET_DOWN = 0.04  # m the hand lowers a tall object at most, from its release, to set it down
+SET_DOWN_STEP = 0.005  # m the hand lowers it per 0.1 s until it touches
 RAISE_SWING = 1.0  # rad: the widest joint swing of a joint-space raise with an object in hand
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of
 # one finger's touch (set down on its destination, a tall bottle pushes up between the pads)
@@ -103,6 +109,7 @@ class Grasper:
                 c.GRIPPER_OPEN,
                 np.asarray(TOP_DOWN_SEED),
                 line=GRASP_DESCENT,
+                margin=GRASP_MARGIN,
             )
             if sol is None:
                 continue
@@ -243,6 +250,11 @@ class Grasper:
         arm = self.arm
         grip = self._in_hand(held)
         tcp, rot = arm.tcp()
+        size = object_kind(next(o.kind for o in episode.objects if o.id == held)).size
+        tall = size[2] > TALL * min(size[0], size[1])
+        if tall:  # its base's middle, not the hand (on a cleanser's nozzle), over the point
+            lo, hi = object_bounds(loop.model, loop.data, held, solid_only=True)
+            release[:2] += tcp[:2] - (lo[:2] + hi[:2]) / 2
         clearance = max(0.0, self._top_under(dest) - (release[2] - self._hang(held))) + 0.05
         above = release + np.array([0.0, 0.0, clearance])
         heading = math.atan2(rot[1, 0], rot[0, 0])
@@ -292,6 +304,8 @@ class Grasper:
             return f"{held} slipped from the gripper"
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
             return f"{dest} is out of reach"
+        if tall:
+            self._set_down(held, dest, release, rot)
         hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
         loop.held = None
         retreat = max(RETREAT, float(above[2] - release[2]))  # clear of the rim before stowing
@@ -299,6 +313,22 @@ class Grasper:
         self._raise_to_carry(rot, c.GRIPPER_OPEN)
         arm.shift_base(-shift - arm.stow())
         return None
+
+    def _set_down(self, held: str, dest: str, release: Vec, rot: Vec) -> None:
+        """Lower the hand from ``release`` until ``held`` touches ``dest``, by at most
+        :data:`SET_DOWN`: dropped 2 cm onto a bowl's curved floor, a 21 cm cleanser rocked
+        and toppled out over the rim (lowered by a fixed distance, it was pushed up in the
+        fingers where it already stood on the floor)."""
+        arm = self.arm
+        ours, theirs = arm.body_geoms(held), arm.body_geoms(dest)
+        step = np.array([0.0, 0.0, SET_DOWN_STEP])
+        point = release
+        for _ in range(round(SET_DOWN / SET_DOWN_STEP)):
+            if arm.in_contact(ours, theirs):
+                return
+            if not arm.line(point, point - step, rot, 0.1, c.GRIPPER_CLOSED):
+                return
+            point = point - step
 
     def _bring_over(
         self, release: Vec, above: Vec, sol: Reach, heading: float, ignore: set[int]
