@@ -13,7 +13,7 @@ from vlm_bench.executor import arm as arm_module
 from vlm_bench.executor.arm import MAX_ASSIST, WORK_RADII, Arm
 from vlm_bench.executor.executor import _Run, execute_plan
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.grasping import GRASP_DESCENT, GRASP_MARGIN, PRE_GRASP, Grasper
+from vlm_bench.executor.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Grasper
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.skills import default_skills
 from vlm_bench.sim import constants as c
@@ -322,29 +322,29 @@ def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
     assert result.exec_success, result.failure_reason
 
 
-def test_a_grasp_keeps_room_from_the_joint_limits() -> None:
+def test_a_grasp_keeps_the_base_joint_off_its_limit() -> None:
     """variant_tomato_can seed 3: the can lay close under the arm base; the grasp posture
-    left the base joint 0.11 rad off its limit, the lift and raise took it to 0.02, and no way
-    to the bowl was left but a swing that flung the can. A grasp nearer a limit than
-    GRASP_MARGIN now counts as a contact, and the UAV moves for one with room."""
+    left the base joint 0.09 rad off its limit, the lift and raise took it to 0.02, and no
+    way to the bowl beside it was left but a swing that flung the can. A grasp with the base
+    joint nearer its limit than GRASP_TURN_ROOM now counts as a contact, and the UAV moves
+    for one with room."""
     episode, grasper = _grasper_after_the_flight("variant_tomato_can", 3)
     plan = grasper._plan_grasp("tomato_can", _kind(episode, "tomato_can"))
     assert plan is not None
     reach, _ = plan
     assert reach.hits == 0
     ik = grasper.arm.ik
-    assert min(ik.limit_margin(reach.q_start), ik.limit_margin(reach.q_end)) >= GRASP_MARGIN
+    for q in (reach.q_start, reach.q_end):
+        assert min(q[0] - ik.lo[0], ik.hi[0] - q[0]) >= GRASP_TURN_ROOM
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
 
 
-@pytest.mark.parametrize(("task", "seed"), [("slim_object_in_bowl", 2), ("function_detergent", 9)])
-def test_a_tall_object_is_set_down_standing_in_the_bowl(task: str, seed: int) -> None:
-    """The 21 cm cleanser, held by its nozzle 1.5 cm off its base's middle, was let go 2 cm
-    above the bowl's curved floor with the hand over the bowl's centre: it rocked, toppled
-    over the rim and tipped the bowl. Its base's middle now goes over the centre and the hand
-    lowers it until it touches, so it stays standing inside."""
-    episode = make_episode(task, seed)
+def test_a_tall_object_is_set_down_standing_in_the_bowl() -> None:
+    """slim_object_in_bowl seed 8: the 21 cm cleanser, let go 2 cm above the bowl's curved
+    floor, rocked and toppled out over the rim. The hand now lowers it until it touches, so
+    it stays standing inside."""
+    episode = make_episode("slim_object_in_bowl", 8)
     tilt: list[float] = []
     result = execute_plan(
         episode,

@@ -96,7 +96,7 @@ class Arm:
         assist: Sequence[Vec] | None = None,
         clearance: float = 0.0,
         line: float | None = None,
-        margin: float = MIN_MARGIN,
+        turn_room: float = 0.0,
     ) -> Reach | None:
         """The straight TCP motion from ``point + approach`` to ``point``: joint angles at
         both ends, the hand's orientation and the UAV move to make first.
@@ -107,9 +107,11 @@ class Arm:
         its joint-space moves (now to the start, start to end) with the held object carried,
         and the plans compared by contacts on the way, then by the widest joint swing from
         now (a wide swing can fling a held object), then by the margin from the joint limits
-        (under ``margin``, default :data:`MIN_MARGIN`, counts as a contact: a servo at its limit
-        strays off the plan; so does a swing over :data:`HELD_SWING` with an object in the
-        hand).
+        (under :data:`MIN_MARGIN` counts as a contact: a servo at its limit strays off the plan;
+        so does a swing over :data:`HELD_SWING` with an object in the hand, and, with
+        ``turn_room`` (rad), a base joint nearer its limit than that at either end: the arm
+        cannot turn further that way, and a can grasped 0.09 rad off it had no way left to
+        the bowl beside it but a swing that flung it).
         Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
         (tried in order; default :meth:`assists`); the best plan over all is returned.
         With ``clearance`` (m), of the clear plans for one UAV move those whose motion from
@@ -142,11 +144,11 @@ class Arm:
                     if res > IK_OK:
                         continue
                     hits = self.path_hits(now, q_start, held, gripper, shift, carried)
-                    room = self.ik.limit_margin(q_start)
+                    margin = self.ik.limit_margin(q_start)
                     widest = float(np.max(np.abs(q_start - now)))
-                    hits += self._strain(room, widest, carried is not None, margin)
+                    hits += self._strain(margin, widest, carried is not None)
                     swing = round(widest / SWING_BIN)
-                    if hits and (hits, 0.0, swing, -room) >= best_key:
+                    if hits and (hits, 0.0, swing, -margin) >= best_key:
                         continue  # the way down only adds contacts: it cannot do better
                     if line is None:
                         way = self._joint_samples(q_start, q_end, shift)
@@ -158,13 +160,14 @@ class Arm:
                             continue  # IK loses the line
                         way, q_end = path, path[-1]  # each control step's posture
                     hits += self.hits_at(way, ignore, gripper, shift, carried)
-                    if room >= margin > self.ik.limit_margin(q_end):
+                    if margin >= MIN_MARGIN > self.ik.limit_margin(q_end):
                         hits += 1
-                    room = min(room, self.ik.limit_margin(q_end))
+                    margin = min(margin, self.ik.limit_margin(q_end))
+                    hits += int(min(self._turn_room(q_start), self._turn_room(q_end)) < turn_room)
                     graze = hits == 0 and bool(
                         clearance and self.hits_at(way, ignore, gripper, shift, carried, clearance)
                     )
-                    key = (float(hits), float(graze), float(swing), -room)
+                    key = (float(hits), float(graze), float(swing), -margin)
                     if key < best_key:
                         best, best_key = Reach(q_start, rot, shift, q_end, hits), key
                     if hits == 0 and not graze:
@@ -174,11 +177,15 @@ class Arm:
         return best
 
     @staticmethod
-    def _strain(room: float, widest: float, holding: bool, margin: float = MIN_MARGIN) -> int:
-        """Contacts a plan counts for a posture ``room`` (rad) from a joint limit (under
-        ``margin`` a servo strays off the plan) and, ``holding`` an object, for a swing wider
-        than :data:`HELD_SWING` (rad) to its start."""
-        return int(room < margin) + int(holding and widest > HELD_SWING)
+    def _strain(margin: float, widest: float, holding: bool) -> int:
+        """Contacts a plan counts for a posture ``margin`` (rad) from a joint limit (under
+        :data:`MIN_MARGIN` a servo strays off the plan) and, ``holding`` an object, for a
+        swing wider than :data:`HELD_SWING` (rad) to its start."""
+        return int(margin < MIN_MARGIN) + int(holding and widest > HELD_SWING)
+
+    def _turn_room(self, q: Vec) -> float:
+        """How far (rad) the base joint of posture ``q`` is from its nearer limit."""
+        return float(min(q[0] - self.ik.lo[0], self.ik.hi[0] - q[0]))
 
     def path_hits(
         self,

@@ -38,9 +38,9 @@ HAND_HALF = 0.105  # m: half the Panda hand's length, along its fingers' closing
 PLACE_CLEARANCE = 0.01  # m: a way down to a release keeping this clear of the rest is preferred
 GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
 GRASP_DESCENT = 1.5  # s: the hand's straight way down onto a grasp point
-GRASP_MARGIN = 0.15  # rad: a grasp posture nearer a joint limit counts as a contact (the lift
-# and raise of a can grasped 0.11 rad off the base joint's limit took it to 0.02, and no way to
-# the bowl was left but a swing that flung the can)
+GRASP_TURN_ROOM = 0.15  # rad: a grasp posture with the base joint nearer its limit counts as a
+# contact (the lift and raise of a can grasped 0.09 rad off it took it to 0.02, and no way to
+# the bowl beside it was left but a swing that flung the can)
 CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object to above its release
 RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
 RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at IK's clamp)
@@ -109,7 +109,7 @@ class Grasper:
                 c.GRIPPER_OPEN,
                 np.asarray(TOP_DOWN_SEED),
                 line=GRASP_DESCENT,
-                margin=GRASP_MARGIN,
+                turn_room=GRASP_TURN_ROOM,
             )
             if sol is None:
                 continue
@@ -252,9 +252,6 @@ class Grasper:
         tcp, rot = arm.tcp()
         size = object_kind(next(o.kind for o in episode.objects if o.id == held)).size
         tall = size[2] > TALL * min(size[0], size[1])
-        if tall:  # its base's middle, not the hand (on a cleanser's nozzle), over the point
-            lo, hi = object_bounds(loop.model, loop.data, held, solid_only=True)
-            release[:2] += tcp[:2] - (lo[:2] + hi[:2]) / 2
         clearance = max(0.0, self._top_under(dest) - (release[2] - self._hang(held))) + 0.05
         above = release + np.array([0.0, 0.0, clearance])
         heading = math.atan2(rot[1, 0], rot[0, 0])
@@ -317,8 +314,8 @@ class Grasper:
     def _set_down(self, held: str, dest: str, release: Vec, rot: Vec) -> None:
         """Lower the hand from ``release`` until ``held`` touches ``dest``, by at most
         :data:`SET_DOWN`: dropped 2 cm onto a bowl's curved floor, a 21 cm cleanser rocked
-        and toppled out over the rim (lowered by a fixed distance, it was pushed up in the
-        fingers where it already stood on the floor)."""
+        and toppled out over the rim (lowered by a fixed 1.5 cm instead, one that already
+        stood on the floor was pushed up in the fingers)."""
         arm = self.arm
         ours, theirs = arm.body_geoms(held), arm.body_geoms(dest)
         step = np.array([0.0, 0.0, SET_DOWN_STEP])
