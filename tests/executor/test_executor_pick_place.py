@@ -335,7 +335,7 @@ def test_a_grasp_keeps_the_base_joint_off_its_limit() -> None:
     assert reach.hits == 0
     ik = grasper.arm.ik
     for q in (reach.q_start, reach.q_end):
-        assert min(q[0] - ik.lo[0], ik.hi[0] - q[0]) >= GRASP_TURN_ROOM
+        assert ik.room(q)[0] >= GRASP_TURN_ROOM
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
 

@@ -163,7 +163,7 @@ class Arm:
                     if margin >= MIN_MARGIN > self.ik.limit_margin(q_end):
                         hits += 1
                     margin = min(margin, self.ik.limit_margin(q_end))
-                    hits += int(min(self._turn_room(q_start), self._turn_room(q_end)) < turn_room)
+                    hits += int(min(self.ik.room(q_start)[0], self.ik.room(q_end)[0]) < turn_room)
                     graze = hits == 0 and bool(
                         clearance and self.hits_at(way, ignore, gripper, shift, carried, clearance)
                     )
@@ -182,10 +182,6 @@ class Arm:
         :data:`MIN_MARGIN` a servo strays off the plan) and, ``holding`` an object, for a
         swing wider than :data:`HELD_SWING` (rad) to its start."""
         return int(margin < MIN_MARGIN) + int(holding and widest > HELD_SWING)
-
-    def _turn_room(self, q: Vec) -> float:
-        """How far (rad) the base joint of posture ``q`` is from its nearer limit."""
-        return float(min(q[0] - self.ik.lo[0], self.ik.hi[0] - q[0]))
 
     def path_hits(
         self,

@@ -250,8 +250,6 @@ class Grasper:
         arm = self.arm
         grip = self._in_hand(held)
         tcp, rot = arm.tcp()
-        size = object_kind(next(o.kind for o in episode.objects if o.id == held)).size
-        tall = size[2] > TALL * min(size[0], size[1])
         clearance = max(0.0, self._top_under(dest) - (release[2] - self._hang(held))) + 0.05
         above = release + np.array([0.0, 0.0, clearance])
         heading = math.atan2(rot[1, 0], rot[0, 0])
@@ -301,7 +299,8 @@ class Grasper:
             return f"{held} slipped from the gripper"
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
             return f"{dest} is out of reach"
-        if tall:
+        size = object_kind(next(o.kind for o in episode.objects if o.id == held)).size
+        if size[2] > TALL * min(size[0], size[1]):
             self._set_down(held, dest, release, rot)
         hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
         loop.held = None

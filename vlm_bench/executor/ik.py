@@ -196,9 +196,13 @@ class ArmIk:
         mujoco.mj_kinematics(self.model, self.scratch)
         return np.array(self.scratch.site_xpos[self.site])
 
+    def room(self, q: Vec) -> Vec:
+        """Each joint's distance in ``q`` from its nearer (inset) limit (rad)."""
+        return np.minimum(q - self.lo, self.hi - q)
+
     def limit_margin(self, q: Vec) -> float:
         """Smallest distance of ``q`` from the (inset) joint limits (rad)."""
-        return float(np.min(np.minimum(q - self.lo, self.hi - q)))
+        return float(np.min(self.room(q)))
 
     def collisions(
         self,

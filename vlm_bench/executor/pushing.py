@@ -43,7 +43,7 @@ DESCENT = 1.2  # s: the hand's straight way down to the push height
 class PushPlan:
     """A feasible push: pre-push posture above the start, the posture at the start at the
     end of the planned way down, hand orientation, the UAV's move before it, the TCP's start
-    and end, and whether the UAV carries the hand along."""
+    and end, and the posture at the end."""
 
     q_pre: Vec
     q_down: Vec
@@ -53,11 +53,6 @@ class PushPlan:
     end: Vec
     q_end: Vec | None
     """The posture at the stroke's end (by the arm alone), ``None``: the UAV carries the hand."""
-
-    @property
-    def carried(self) -> bool:
-        """Whether the UAV carries the hand along the stroke."""
-        return self.q_end is None
 
 
 @dataclass(frozen=True)
