@@ -353,3 +353,26 @@ def test_a_tall_object_is_set_down_standing_in_the_bowl() -> None:
     )
     assert result.exec_success, result.failure_reason
     assert tilt[-1] > math.cos(math.radians(20))  # standing, not leaning on the rim
+
+
+def test_a_tall_object_is_centred_over_the_bowl_before_it_is_set_down() -> None:
+    """slim_object_in_bowl seed 2: the cleanser hung 14 mm off the bowl's centre when the hand
+    reached its release; set down there, a corner of its base (9.4 cm across, on a 9.6 cm
+    floor) stood on the curved wall, it slid, toppled and tipped the bowl over. The hand now
+    moves it over the centre first: it ends standing near there (leaning a few degrees on the
+    wall, which 1 mm of slack leaves no way round), and the bowl stays level."""
+    episode = make_episode("slim_object_in_bowl", 2)
+    last: dict[str, float] = {}
+
+    def watch(loop: SimLoop) -> None:
+        d = loop.data
+        off = d.body("cleanser").xpos[:2] - d.body("yellow_bowl").xpos[:2]
+        last["off"] = float(np.linalg.norm(off))
+        last["bottle"] = float(d.body("cleanser").xmat[8])
+        last["bowl"] = float(d.body("yellow_bowl").xmat[8])
+
+    result = execute_plan(episode, episode.gt_plan, observers=[watch])
+    assert result.exec_success, result.failure_reason
+    assert last["off"] < 0.01
+    assert last["bottle"] > math.cos(math.radians(10))
+    assert last["bowl"] > math.cos(math.radians(5))

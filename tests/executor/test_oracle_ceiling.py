@@ -16,8 +16,6 @@ from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
     ("drawer_interaction", 3): "step 8: top_drawer is out of reach",
-    ("function_detergent", 9): "goal not met: inside(cleanser, yellow_bowl)",
-    ("slim_object_in_bowl", 2): "goal not met: inside(cleanser, yellow_bowl)",
 }
 
 TASKS = [t.id for t in all_tasks()]

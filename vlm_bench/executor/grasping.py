@@ -47,6 +47,8 @@ RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at I
 TALL = 2.0  # height over the narrowest side of the base: such an object is set down, not dropped
 SET_DOWN = 0.04  # m the hand lowers a tall object at most, from its release, to set it down
 SET_DOWN_STEP = 0.005  # m the hand lowers it per 0.1 s until it touches
+CENTRE_TOL = 0.001  # m: a tall object's middle is brought this close over its resting place...
+CENTRE_TRIES = 3  # ...in at most this many sideways moves of the hand, before it is set down
 RAISE_SWING = 1.0  # rad: the widest joint swing of a joint-space raise with an object in hand
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of
 # one finger's touch (set down on its destination, a tall bottle pushes up between the pads)
@@ -311,20 +313,40 @@ class Grasper:
         return None
 
     def _set_down(self, held: str, dest: str, release: Vec, rot: Vec) -> None:
-        """Lower the hand from ``release`` until ``held`` touches ``dest``, by at most
-        :data:`SET_DOWN`: dropped 2 cm onto a bowl's curved floor, a 21 cm cleanser rocked
-        and toppled out over the rim (lowered by a fixed 1.5 cm instead, one that already
-        stood on the floor was pushed up in the fingers)."""
+        """Centre ``held`` over ``release`` (:meth:`_centre_over`), then lower the hand until
+        ``held`` touches ``dest``, by at most :data:`SET_DOWN`: dropped 2 cm onto a bowl's
+        curved floor, a 21 cm cleanser rocked and toppled out over the rim (lowered by a fixed
+        1.5 cm instead, one that already stood on the floor was pushed up in the fingers)."""
         arm = self.arm
         ours, theirs = arm.body_geoms(held), arm.body_geoms(dest)
         step = np.array([0.0, 0.0, SET_DOWN_STEP])
-        point = release
+        point = self._centre_over(held, release, rot)
         for _ in range(round(SET_DOWN / SET_DOWN_STEP)):
             if arm.in_contact(ours, theirs):
                 return
             if not arm.line(point, point - step, rot, 0.1, c.GRIPPER_CLOSED):
                 return
             point = point - step
+
+    def _centre_over(self, held: str, release: Vec, rot: Vec) -> Vec:
+        """Move the hand sideways until ``held``'s middle is within :data:`CENTRE_TOL` over
+        ``release`` (the resting place's centre); the TCP there. A bottle held by its cap
+        hangs up to 1.5 cm off the hand's centre, and the TCP stops a few mm off its goal: a
+        cleanser let go 14 mm off a bowl's centre stood a corner on the curved wall, slid,
+        toppled and tipped the bowl over (its base, 9.4 cm across, just fits the 9.6 cm floor)."""
+        loop, arm = self.loop, self.arm
+        tcp = arm.tcp()[0]
+        for _ in range(CENTRE_TRIES):
+            lo, hi = object_bounds(loop.model, loop.data, held, solid_only=True)
+            off = release[:2] - (lo[:2] + hi[:2]) / 2
+            if float(np.linalg.norm(off)) < CENTRE_TOL:
+                break
+            to = tcp + np.array([off[0], off[1], 0.0])
+            if not arm.line(tcp, to, rot, 0.3, c.GRIPPER_CLOSED):
+                break
+            hold_with_gripper(loop, 0.2, c.GRIPPER_CLOSED)  # let it stop swinging
+            tcp = arm.tcp()[0]
+        return tcp
 
     def _bring_over(
         self, release: Vec, above: Vec, sol: Reach, heading: float, ignore: set[int]
