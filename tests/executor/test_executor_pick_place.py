@@ -376,3 +376,42 @@ def test_a_tall_object_is_centred_over_the_bowl_before_it_is_set_down() -> None:
     assert last["off"] < 0.01
     assert last["bottle"] > math.cos(math.radians(10))
     assert last["bowl"] > math.cos(math.radians(5))
+
+
+def test_a_planned_uav_turn_swings_the_arm_about_its_base() -> None:
+    """A base move's fourth value turns the UAV's heading (rad): IK and the collision checks
+    see the arm, hung under the UAV's centre, turned about the vertical through its base;
+    :meth:`Arm.shift_base` flies the turn and its undo brings the heading back."""
+    episode = make_episode("drawer_interaction", 0)
+    loop = SimLoop(build_scene(episode))
+    arm = Arm(loop)
+    data = loop.data
+    q = arm_qpos(loop.model, data)
+    base = np.array(data.body(c.ARM_BASE_BODY).xpos)
+    tcp = arm.ik.tcp_at(data, q) - base
+    for turn in (math.pi / 2, math.pi, -math.pi / 2):
+        turned = arm.ik.tcp_at(data, q, np.array([0.0, 0.0, 0.1, turn])) - base
+        cz, sz = math.cos(turn), math.sin(turn)
+        expected = np.array([cz * tcp[0] - sz * tcp[1], sz * tcp[0] + cz * tcp[1], tcp[2] + 0.1])
+        np.testing.assert_allclose(turned, expected, atol=1e-9)
+    start = loop.uav_yaw_deg()
+    arm.shift_base(np.array([0.0, 0.0, 0.1, math.pi / 2]))
+    assert abs(math.remainder(loop.uav_yaw_deg() - start - 90.0, 360.0)) < 1.0
+    arm.shift_base(np.array([0.0, 0.0, -0.1, -math.pi / 2]))
+    assert abs(math.remainder(loop.uav_yaw_deg() - start, 360.0)) < 1.0
+
+
+def test_a_drawer_release_turns_the_uav_where_the_base_joint_cannot_reach() -> None:
+    """drawer_interaction seed 3: the UAV faces the cabinet half a turn round from seed 0, and
+    the base joint (5.8 rad of travel) leaves no way down into the open drawer that misses its
+    front: the place failed, "top_drawer is out of reach". The hover above the drawer is now
+    also planned with the UAV turned; it turns there, places the banana and turns back."""
+    episode = make_episode("drawer_interaction", 3)
+    yaw: list[float] = []
+    result = execute_plan(
+        episode, episode.gt_plan, observers=[lambda loop: yaw.append(loop.uav_yaw_deg())]
+    )
+    assert result.exec_success, result.failure_reason
+    turned = max(abs(math.remainder(y - yaw[0], 360.0)) for y in yaw)
+    assert turned > 45.0
+    assert abs(math.remainder(yaw[-1] - yaw[0], 360.0)) < 5.0

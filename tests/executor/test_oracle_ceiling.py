@@ -15,7 +15,6 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("drawer_interaction", 3): "step 8: top_drawer is out of reach",
 }
 
 TASKS = [t.id for t in all_tasks()]

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 from vlm_bench.executor.ik import SEED_POSTURES, ArmIk, Carried, top_down_rotation
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.motion import HELD_JOINT_SPEED, joint_move, min_jerk
-from vlm_bench.executor.uav_move import STOWED_TOL, fly_to, stow_arm
+from vlm_bench.executor.uav_move import STOWED_TOL, fly_to, stow_arm, turn_to
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.base import free_joint_name
 from vlm_bench.sim.objects.bounds import subtree_geoms
@@ -38,6 +38,7 @@ CLIMBS = tuple(np.array([0.0, 0.0, dz]) for dz in (0.15, 0.3))
 """UAV climbs (m) tried after every level move."""
 FLIGHT_CLEARANCE = 0.03  # m a flight with an object in the hand keeps from everything, if it can
 FLIGHT_STEP = 0.05  # m between the collision checks of a flight with an object in the hand
+TURN_STEP = 0.1  # rad of the UAV's heading between the collision checks of its turn
 CARRY_TURNS = tuple(sign * turn for turn in (0.4, 0.8, 1.2, 1.6) for sign in (1.0, -1.0))
 """Turns of the arm's base joint (rad) tried to carry a held object clear of a flight's way."""
 WORK_RADII = (0.36, 0.46, 0.56)
@@ -47,8 +48,9 @@ limits, for the points the stand-off leaves 0.45-0.75 m below the base (from a r
 
 class Reach(NamedTuple):
     """A planned straight TCP motion: joint angles at its start, the hand's orientation, the
-    UAV move (m) to make first, joint angles at its end, and how many contacts the arm would
-    make on the way (0: a clear path)."""
+    UAV move (m; a fourth value, where given, turns its heading, rad) to make first, joint
+    angles at its end, and how many contacts the arm would make on the way (0: a clear
+    path)."""
 
     q_start: Vec
     rotation: Vec
@@ -113,7 +115,8 @@ class Arm:
         cannot turn further that way, and a can grasped 0.09 rad off it had no way left to
         the bowl beside it but a swing that flung it).
         Where no plan is clear from the UAV's pose, the UAV may move by one of ``assist``
-        (tried in order; default :meth:`assists`); the best plan over all is returned.
+        (tried in order; default :meth:`assists`; one that also turns its heading counts the
+        contacts of the turn, :meth:`turn_hits`); the best plan over all is returned.
         With ``clearance`` (m), of the clear plans for one UAV move those whose motion from
         start to end keeps that far from everything (outside ``ignore``) come first: a hand
         planned to pass a box's rim 1 mm off hit it, the arm swaying as it stretched down.
@@ -135,6 +138,7 @@ class Arm:
         best: Reach | None = None
         best_key = (math.inf, math.inf, math.inf, -math.inf)
         for shift in assist:
+            turning = self.turn_hits(shift, now, held, carried)
             for rot in rotations:
                 for start in starts:
                     q_end, res = self.ik.solve(data, point, rot, start, base=shift)
@@ -143,7 +147,7 @@ class Arm:
                     q_start, res = self.ik.solve(data, point + approach, rot, q_end, base=shift)
                     if res > IK_OK:
                         continue
-                    hits = self.path_hits(now, q_start, held, gripper, shift, carried)
+                    hits = turning + self.path_hits(now, q_start, held, gripper, shift, carried)
                     margin = self.ik.limit_margin(q_start)
                     widest = float(np.max(np.abs(q_start - now)))
                     hits += self._strain(margin, widest, carried is not None)
@@ -352,10 +356,33 @@ class Arm:
         return [*BASE_ASSIST, *level, *CLIMBS, *climbs]
 
     def shift_base(self, delta: Vec) -> None:
-        """Fly the UAV's setpoint by ``delta`` (m, world) and let it settle."""
-        if np.any(delta):
-            target = np.array(self.loop.controller.setpoint) + np.asarray(delta)
+        """Fly the UAV's setpoint by ``delta`` (m, world) and let it settle; a fourth value,
+        where given, turns its heading by that much (rad, CCW) at the move's higher end
+        (:meth:`turn_hits` checks the turn there)."""
+        delta = np.asarray(delta, dtype=np.float64)
+        turn = float(delta[3]) if len(delta) > 3 else 0.0
+        if turn and delta[2] < 0.0:
+            turn_to(self.loop, turn, self.loop.config.flight)
+        if np.any(delta[:3]):
+            target = np.array(self.loop.controller.setpoint) + delta[:3]
             fly_to(self.loop, target, self.loop.config.flight)
+        if turn and delta[2] >= 0.0:
+            turn_to(self.loop, turn, self.loop.config.flight)
+
+    def turn_hits(self, move: Vec, q: Vec, ignore: set[int], carried: Carried | None) -> int:
+        """Contacts outside ``ignore`` while the UAV makes ``move``'s turn (its fourth value,
+        if any) with the arm held at ``q`` and ``carried`` in the hand, at the move's higher
+        end, where :meth:`shift_base` makes it (turned low beside a cabinet, an arm reaching
+        out swept through a drawer's front), every :data:`TURN_STEP` rad."""
+        if len(move) < 4 or not move[3]:
+            return 0
+        at = np.asarray(move[:3]) if move[2] >= 0.0 else np.zeros(3)
+        n = math.ceil(abs(float(move[3])) / TURN_STEP)
+        data = self.loop.data
+        return sum(
+            len(self.ik.collisions(data, q, ignore, None, np.append(at, move[3] * k / n), carried))
+            for k in range(1, n + 1)
+        )
 
     def stow(self) -> Vec:
         """Stow the arm (:func:`stow_arm`) by a way clear of the UAV and, by

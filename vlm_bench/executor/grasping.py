@@ -58,6 +58,7 @@ RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (an a
 DRAWER_DROP_SIZE = 0.1  # m: the widest object dropped into a drawer from above its front
 DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
 DRAWER_DEPTHS = (1.0, 0.9)  # m: arm base above it (from a reach scan over an open drawer)
+DRAWER_TURNS = (math.pi, math.pi / 2, -math.pi / 2)  # rad: UAV heading turns tried last there
 
 
 class Grasper:
@@ -309,7 +310,9 @@ class Grasper:
         retreat = max(RETREAT, float(above[2] - release[2]))  # clear of the rim before stowing
         arm.line(release, release + np.array([0.0, 0.0, retreat]), rot, 1.0, c.GRIPPER_OPEN)
         self._raise_to_carry(rot, c.GRIPPER_OPEN)
-        arm.shift_base(-shift - arm.stow())
+        undo = -shift  # the UAV's moves (and turn) made for the release, undone
+        undo[:3] -= arm.stow()
+        arm.shift_base(undo)
         return None
 
     def _set_down(self, held: str, dest: str, release: Vec, rot: Vec) -> None:
@@ -364,7 +367,7 @@ class Grasper:
         arm, loop = self.arm, self.loop
         seconds = max(2.0, float(np.linalg.norm(above - arm.tcp()[0])) / CARRY_SPEED)
         now = arm_qpos(loop.model, loop.data)
-        shift = np.asarray(sol.shift, dtype=np.float64)
+        shift = np.array(sol.shift, dtype=np.float64)
 
         def glide(plan: Reach) -> tuple[Vec, Vec, Vec, Vec] | None:
             if not arm.glide(above, plan.rotation, seconds, c.GRIPPER_CLOSED, plan.q_start):
@@ -394,7 +397,8 @@ class Grasper:
             arm.shift_base(travel)
             # Planned again where the UAV settled (a centimetre off puts a hand in a box's wall).
             way = self._descent(release, above, heading, ignore, np.zeros(3)) or down
-            return way.q_start, way.q_end, way.rotation, shift + travel
+            shift[:3] += travel
+            return way.q_start, way.q_end, way.rotation, shift
         return sol.q_start, sol.q_end, sol.rotation, shift
 
     def _descent(
@@ -433,8 +437,12 @@ class Grasper:
 
     def _drawer_assists(self, episode: Episode, dest: str, release: Vec) -> list[Vec] | None:
         """For a release into an open drawer, UAV moves to hover in front of it, high: the
-        drawer's tall front leaves the arm no way in across it, only down from above. ``None``
-        (the usual assists) for other destinations."""
+        drawer's tall front leaves the arm no way in across it, only down from above; then the
+        usual assists; last, the hovers with the UAV turned by one of :data:`DRAWER_TURNS`.
+        The base joint turns through 5.8 rad, not a full turn: facing the cabinet one way, the
+        arm reached down into drawer_interaction's drawer clear of its front; facing the other,
+        half a turn round, every way in met the front or folded the elbow over the cabinet.
+        ``None`` (the usual assists) for other destinations."""
         part = next((p for p in episode.parts if p.id == dest and p.kind == "drawer"), None)
         if part is None:
             return None
@@ -445,7 +453,8 @@ class Grasper:
             for depth in DRAWER_DEPTHS
             for out in DRAWER_OUT
         ]
-        return hover + self.arm.assists(release)
+        turned = [np.append(move, turn) for turn in DRAWER_TURNS for move in hover]
+        return [*hover, *self.arm.assists(release), *turned]
 
     def _hang(self, held: str) -> float:
         """TCP height above the held object's bottom (m)."""

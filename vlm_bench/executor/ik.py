@@ -60,6 +60,21 @@ def frontal_rotation(normal: Vec, fingers_up: bool = True) -> Vec:
     return np.column_stack([np.cross(y, z), y, z])
 
 
+def _move_base(qpos: Vec, adr: int, base: Vec | None) -> None:
+    """Move the UAV's free joint at ``qpos[adr:adr + 7]`` by ``base``: (x, y, z) m, world,
+    and, where given, a turn about the vertical (rad, CCW) fourth."""
+    if base is None:
+        return
+    qpos[adr : adr + 3] += base[:3]
+    if len(base) > 3 and base[3]:
+        half = 0.5 * float(base[3])
+        turned = np.empty(4)
+        mujoco.mju_mulQuat(
+            turned, np.array([math.cos(half), 0.0, 0.0, math.sin(half)]), qpos[adr + 3 : adr + 7]
+        )
+        qpos[adr + 3 : adr + 7] = turned
+
+
 @dataclass(frozen=True)
 class Carried:
     """A held object, for collision checks: its free joint's qpos address, its geoms, and its
@@ -112,8 +127,7 @@ class ArmIk:
         angles ``q``."""
         qpos = self.config.q.copy()
         qpos[self._r_uav : self._r_uav + 7] = data.qpos[self._uav_qadr : self._uav_qadr + 7]
-        if base is not None:
-            qpos[self._r_uav : self._r_uav + 3] += base
+        _move_base(qpos, self._r_uav, base)
         qpos[self._r_qadr] = q
         self.config.update(qpos)
 
@@ -186,8 +200,7 @@ class ArmIk:
         """Scratch ``s`` set to the scene's state with arm angles ``q`` (UAV moved by
         ``base``); kinematics not yet run."""
         s.qpos[:] = data.qpos
-        if base is not None:
-            s.qpos[self._uav_qadr : self._uav_qadr + 3] += base
+        _move_base(s.qpos, self._uav_qadr, base)
         s.qpos[self.qadr] = q
 
     def tcp_at(self, data: mujoco.MjData, q: Vec, base: Vec | None = None) -> Vec:

@@ -33,6 +33,8 @@ from vlm_bench.types.plan import Direction, UavStep
 
 Vec = NDArray[np.float64]
 STOWED_TOL = 0.02  # rad: the arm counts as stowed when every joint is this close
+TURN_RATE = 0.8  # rad/s the heading setpoint turns at (a half turn in 4 s, an object in hand)
+TURN_TOL = math.radians(1.0)  # heading error that ends a turn
 
 
 def move_target(
@@ -113,6 +115,25 @@ def fly_to(loop: SimLoop, target: Vec, flight: FlightConfig) -> None:
             and error < flight.settle_tol
             and loop.uav_speed() < flight.settle_speed
         ):
+            return
+
+
+def turn_to(loop: SimLoop, turn: float, flight: FlightConfig) -> None:
+    """Turn the UAV's heading setpoint by ``turn`` (rad, CCW) at :data:`TURN_RATE`, holding
+    its position, and wait for the heading to settle (as :func:`fly_to` waits for the
+    position)."""
+    ctrl = loop.controller
+    start = ctrl.yaw_setpoint
+    n = max(1, math.ceil(abs(turn) / (TURN_RATE * CONTROL_DT)))
+    for i in range(1, n + 1):
+        ctrl.set_setpoint(ctrl.setpoint, math.degrees(start + turn * i / n))
+        loop.control_step()
+    hold_min = round(flight.settle_min_s / CONTROL_DT)
+    for i in range(round(flight.settle_max_s / CONTROL_DT)):
+        loop.control_step()
+        yaw = math.radians(loop.uav_yaw_deg())
+        error = abs(math.remainder(ctrl.yaw_setpoint - yaw, 2 * math.pi))
+        if i + 1 >= hold_min and error < TURN_TOL and loop.uav_speed() < flight.settle_speed:
             return
 
 
