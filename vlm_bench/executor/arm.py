@@ -361,12 +361,12 @@ class Arm:
         (:meth:`turn_hits` checks the turn there)."""
         delta = np.asarray(delta, dtype=np.float64)
         turn = float(delta[3]) if len(delta) > 3 else 0.0
-        if turn and delta[2] < 0.0:
+        if turn and _turns_first(delta):
             turn_to(self.loop, turn, self.loop.config.flight)
         if np.any(delta[:3]):
             target = np.array(self.loop.controller.setpoint) + delta[:3]
             fly_to(self.loop, target, self.loop.config.flight)
-        if turn and delta[2] >= 0.0:
+        if turn and not _turns_first(delta):
             turn_to(self.loop, turn, self.loop.config.flight)
 
     def turn_hits(self, move: Vec, q: Vec, ignore: set[int], carried: Carried | None) -> int:
@@ -376,7 +376,7 @@ class Arm:
         out swept through a drawer's front), every :data:`TURN_STEP` rad."""
         if len(move) < 4 or not move[3]:
             return 0
-        at = np.asarray(move[:3]) if move[2] >= 0.0 else np.zeros(3)
+        at = np.zeros(3) if _turns_first(move) else np.asarray(move[:3])
         n = math.ceil(abs(float(move[3])) / TURN_STEP)
         data = self.loop.data
         return sum(
@@ -611,6 +611,12 @@ class Arm:
     def touching_fingers(self, obj: str) -> bool:
         """Whether both fingers touch ``obj``."""
         return self.touching(self.body_geoms(obj))
+
+
+def _turns_first(move: Vec) -> bool:
+    """Whether :meth:`Arm.shift_base` turns the UAV (``move``'s fourth value) before flying
+    ``move``'s way: for a descent, so the turn is made at the move's higher end."""
+    return bool(move[2] < 0.0)
 
 
 def _steps(seconds: float) -> list[float]:

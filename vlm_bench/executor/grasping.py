@@ -302,8 +302,8 @@ class Grasper:
             return f"{held} slipped from the gripper"
         if float(np.linalg.norm(arm.tcp()[0] - release)) > RELEASE_TOL:
             return f"{dest} is out of reach"
-        size = object_kind(next(o.kind for o in episode.objects if o.id == held)).size
-        if size[2] > TALL * min(size[0], size[1]):
+        kind = _kind(episode, held)
+        if kind is not None and kind.size[2] > TALL * min(kind.size[:2]):
             self._set_down(held, dest, release, rot)
         hold_with_gripper(loop, 0.6, c.GRIPPER_OPEN)
         loop.held = None
@@ -421,7 +421,7 @@ class Grasper:
         :data:`DRAWER_DROP_SIZE` across; not a plate) and is deeper than the object is tall (a
         tall bottle dropped in topples out over the rim)."""
         model, data = self.loop.model, self.loop.data
-        kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
+        kind = _kind(episode, dest)
         hlo, hhi = object_bounds(model, data, held, solid_only=True)
         if _is_vessel(kind):
             lo, hi = object_bounds(model, data, dest, solid_only=True)
@@ -470,7 +470,7 @@ class Grasper:
         """TCP position that sets the held object down 2 cm above its resting place."""
         loop = self.loop
         lo, hi = object_bounds(loop.model, loop.data, dest, solid_only=True)
-        kind = next((object_kind(o.kind) for o in episode.objects if o.id == dest), None)
+        kind = _kind(episode, dest)
         if _is_vessel(kind):
             rest = float(lo[2]) + CONTAINER_FLOOR
         elif kind is None:  # a drawer: its floor is the body origin's height
@@ -537,6 +537,11 @@ class Grasper:
                 if key > best_key:
                     best, best_key = p, key
         return float(best[0]), float(best[1])
+
+
+def _kind(episode: Episode, obj: str) -> ObjectKind | None:
+    """The catalogue kind of the episode's object ``obj`` (``None``: not an object, a part)."""
+    return next((object_kind(o.kind) for o in episode.objects if o.id == obj), None)
 
 
 def _is_vessel(kind: ObjectKind | None) -> bool:

@@ -17,6 +17,7 @@ The UAV is never placed: it flies under the controller, and contacts are real.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -105,17 +106,11 @@ def fly_to(loop: SimLoop, target: Vec, flight: FlightConfig) -> None:
             ctrl.set_setpoint(start + direction * s, yaw_deg)
             loop.control_step()
     ctrl.set_setpoint(target, yaw_deg)
-    hold_min = round(flight.settle_min_s / CONTROL_DT)
-    hold_max = round(flight.settle_max_s / CONTROL_DT)
-    for i in range(hold_max):
-        loop.control_step()
-        error = float(np.linalg.norm(loop.uav_position() - target))
-        if (
-            i + 1 >= hold_min
-            and error < flight.settle_tol
-            and loop.uav_speed() < flight.settle_speed
-        ):
-            return
+    _settle(
+        loop,
+        flight,
+        lambda: float(np.linalg.norm(loop.uav_position() - target)) < flight.settle_tol,
+    )
 
 
 def turn_to(loop: SimLoop, turn: float, flight: FlightConfig) -> None:
@@ -128,12 +123,21 @@ def turn_to(loop: SimLoop, turn: float, flight: FlightConfig) -> None:
     for i in range(1, n + 1):
         ctrl.set_setpoint(ctrl.setpoint, math.degrees(start + turn * i / n))
         loop.control_step()
+
+    def on_heading() -> bool:
+        yaw = math.radians(loop.uav_yaw_deg())
+        return abs(math.remainder(ctrl.yaw_setpoint - yaw, 2 * math.pi)) < TURN_TOL
+
+    _settle(loop, flight, on_heading)
+
+
+def _settle(loop: SimLoop, flight: FlightConfig, there: Callable[[], bool]) -> None:
+    """Hold the setpoint for at least ``flight.settle_min_s`` and at most
+    ``flight.settle_max_s``, until the UAV is ``there`` and slower than ``flight.settle_speed``."""
     hold_min = round(flight.settle_min_s / CONTROL_DT)
     for i in range(round(flight.settle_max_s / CONTROL_DT)):
         loop.control_step()
-        yaw = math.radians(loop.uav_yaw_deg())
-        error = abs(math.remainder(ctrl.yaw_setpoint - yaw, 2 * math.pi))
-        if i + 1 >= hold_min and error < TURN_TOL and loop.uav_speed() < flight.settle_speed:
+        if i + 1 >= hold_min and there() and loop.uav_speed() < flight.settle_speed:
             return
 
 
