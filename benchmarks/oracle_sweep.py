@@ -54,18 +54,33 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--tasks", default="", help="comma-separated task ids (default: all)")
     parser.add_argument("--out", type=Path, default=None, help="write one JSON line per episode")
+    parser.add_argument(
+        "--episodes",
+        type=Path,
+        default=None,
+        help="a JSON list of 'task:seed' to replay instead of --tasks x --seeds",
+    )
     args = parser.parse_args()
 
     from vlm_bench.catalog.tasks import all_tasks
 
     tasks = args.tasks.split(",") if args.tasks else [t.id for t in all_tasks()]
     jobs = [(t, s) for s in _seeds(args.seeds) for t in tasks]
+    if args.episodes is not None:
+        keys = json.loads(args.episodes.read_text())
+        jobs = [(k.rsplit(":", 1)[0], int(k.rsplit(":", 1)[1])) for k in keys]
     t0 = time.perf_counter()
+    rows: list[dict[str, object]] = []
+    sink = args.out.open("w") if args.out else None
     with Pool(args.workers) as pool:
-        rows = list(pool.imap_unordered(_one, jobs))
+        for row in pool.imap_unordered(_one, jobs):
+            rows.append(row)
+            if sink is not None:  # one line per finished episode, so a long sweep can be watched
+                sink.write(json.dumps(row) + "\n")
+                sink.flush()
     sweep = time.perf_counter() - t0
-    if args.out:
-        args.out.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    if sink is not None:
+        sink.close()
 
     by_suite: dict[str, list[dict[str, object]]] = defaultdict(list)
     for row in rows:

@@ -1,44 +1,43 @@
-"""Derive the GT plan from geometry (SPEC §3): UAV moves are computed, never typed by hand.
+"""Derive the GT plan from geometry: UAV moves are computed, never typed by hand.
 
-Before each ARM step whose object is out of reach, a horizontal move is inserted whose direction
-is the bearing from the UAV to the object in the UAV body frame, quantised to eight sectors; then
-``up``/``down`` if the operating altitude differs by more than a threshold (climbing first only
-where level flight would sweep the stowed arm through an obstacle). The UAV's pose is
+Before each ARM step the moves of :func:`vlm_bench.rules.approach_moves` are inserted: a
+horizontal move in the quantised body-frame bearing of the step's working point when it is out
+of reach, and ``up`` (before it) or ``down`` (after it) when the working altitude differs by
+more than a threshold. The prompt states the same rule from the same code. The UAV's pose is
 tracked with ideal kinematics (the executor's stopping rule) and the scene's state is tracked
 through the skills' effects (picked objects travel, drawers open), so later steps are judged
-from where things really are. Any decision that lies within a safety margin of its threshold
-raises :class:`AmbiguousGeometry`, and the caller resamples the seed.
+from where things really are. Any decision that lies within a safety margin of its threshold,
+and any leg that would sweep the UAV or its stowed arm through an obstacle, raises
+:class:`AmbiguousGeometry`, and the caller resamples the seed: no GT depends on a judgement the
+images cannot support.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from vlm_bench.catalog.world import object_kind
-from vlm_bench.episodes.geometry import (
-    body_bearing_deg,
-    move_stop,
-    quantise_bearing,
-    rect_corners,
+from vlm_bench.episodes.geometry import rect_corners, segment_rect_distance
+from vlm_bench.rules import (
+    DRAWER_FLOOR_BELOW_HANDLE,
+    DRAWER_INSIDE_BEHIND_HANDLE,
+    DRAWER_PULL,
+    UavState,
+    WorkPoint,
+    approach_moves,
     rotate_xy,
-    segment_rect_distance,
 )
-from vlm_bench.episodes.layout import CONTAINER_FLOOR
+from vlm_bench.rules.approach import ambiguity
+from vlm_bench.rules.work import rest_height
 from vlm_bench.types.episode import EpisodeObject, PartRef, UavPose
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
-from vlm_bench.types.plan import ArmStep, Direction, UavStep
+from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.task import ArmStepSpec
 
-SECTOR_MARGIN_DEG = 8.0  # bearings this close to a sector boundary are ambiguous
-REACH_MARGIN = 0.06  # m around the reach limit
-VERTICAL_MARGIN = 0.06  # m around the vertical threshold
 UAV_CLEARANCE = 0.50  # m, rotor tip radius: horizontal clearance from tall fixtures
-DRAWER_PULL = 0.35  # m, nominal opening after a pull (SPEC §7: >= 0.35)
-DRAWER_FLOOR_BELOW_HANDLE = 0.10  # m
 DRAWER_FRONT_ABOVE_HANDLE = 0.24  # m, top edge of a drawer front above its handle
 
 
@@ -152,13 +151,11 @@ class GroundTruthBuilder:
             hx, hy, hz = self._handle(state, dest)
             _, owner = self._part_specs[dest]
             # The drawer's interior centre lies behind its handle, along the owner's front axis.
-            bx, by = rotate_xy(-0.2, 0.0, owner.yaw_deg)
+            bx, by = rotate_xy(-DRAWER_INSIDE_BEHIND_HANDLE, 0.0, owner.yaw_deg)
             return hx + bx, hy + by, hz - DRAWER_FLOOR_BELOW_HANDLE
         kind = object_kind(self.objects[dest].kind)
         bx, by, bz = state.bottoms[dest]
-        if kind.container and not kind.support:
-            return bx, by, bz + CONTAINER_FLOOR
-        return bx, by, bz + kind.size[2]
+        return bx, by, rest_height(bz, kind.size[2], container=kind.container, support=kind.support)
 
     # ---- moves ------------------------------------------------------------------------
     def _check_path(self, a: tuple[float, float], b: tuple[float, float], z: float) -> None:
@@ -210,74 +207,24 @@ class GroundTruthBuilder:
     def _approach(
         self, state: _State, ref: Reference, target: str
     ) -> list[tuple[UavStep, UavPose]]:
-        """UAV moves that bring ``ref`` into reach, each with the pose it ends at."""
+        """UAV moves that bring ``ref`` into reach (the rule of :func:`approach_moves`), each
+        with the pose it ends at; every decision is checked for its margin and every leg for
+        clearance."""
         geo = self.geometry
-        op_z = geo.operating_altitude(ref.z)
-        dz = op_z - state.uav_z
-        if abs(abs(dz) - geo.vertical_threshold) < VERTICAL_MARGIN:
-            raise AmbiguousGeometry("altitude difference is near the vertical threshold")
-        vertical = abs(dz) > geo.vertical_threshold
-        start = (state.uav_xy, state.uav_z)
-        try:
-            return self._legs(state, ref, target, op_z if vertical else None, climb_first=False)
-        except PathBlocked:
-            if not (vertical and dz > 0):
-                raise
-        # Level flight would sweep the stowed arm through an obstacle: climb first.
-        state.uav_xy, state.uav_z = start
-        return self._legs(state, ref, target, op_z, climb_first=True)
-
-    def _legs(
-        self,
-        state: _State,
-        ref: Reference,
-        target: str,
-        op_z: float | None,
-        climb_first: bool,
-    ) -> list[tuple[UavStep, UavPose]]:
-        """The horizontal leg (if out of reach) and the vertical one (if ``op_z``), in the
-        SPEC's order (horizontal first) unless ``climb_first``."""
+        uav = UavState(state.uav_xy[0], state.uav_xy[1], state.uav_z, state.yaw)
+        point = WorkPoint(ref.x, ref.y, ref.z, ref.standoff)
+        problem = ambiguity(uav, point, geo)
+        if problem is not None:
+            raise AmbiguousGeometry(problem)
+        legs = approach_moves(uav, point, geo)
         steps: list[tuple[UavStep, UavPose]] = []
-        if op_z is not None and climb_first:
-            steps.append(self._vertical(state, op_z, target))
-        # Flying level below a pending climb, the stowed arm must clear even the target drawer.
-        strict = op_z is not None and op_z > state.uav_z and not climb_first
-        horizontal = self._horizontal(state, ref, set() if strict else {target})
-        if horizontal is not None:
-            steps.append(horizontal)
-        if op_z is not None and not climb_first:
-            steps.append(self._vertical(state, op_z, target))
+        for leg in legs:
+            if not leg.vertical:  # a climb or descent in place sweeps nothing new
+                self._check_path(leg.start.xy, leg.end.xy, leg.start.z)
+                self._check_arm(state, leg.start.xy, leg.end.xy, leg.start.z, {target})
+            state.uav_xy, state.uav_z = leg.end.xy, leg.end.z
+            steps.append((UavStep(direction=leg.direction), _pose(state)))
         return steps
-
-    def _horizontal(
-        self, state: _State, ref: Reference, exclude: set[str]
-    ) -> tuple[UavStep, UavPose] | None:
-        """The horizontal move that brings ``ref`` into reach (None if it already is)."""
-        geo = self.geometry
-        dist = math.hypot(ref.x - state.uav_xy[0], ref.y - state.uav_xy[1])
-        if abs(dist - geo.reach_horizontal) < REACH_MARGIN:
-            raise AmbiguousGeometry("object lies at the edge of reach")
-        if dist <= geo.reach_horizontal:
-            return None
-        bearing = body_bearing_deg(state.uav_xy, state.yaw, (ref.x, ref.y))
-        direction, margin = quantise_bearing(bearing)
-        if margin < SECTOR_MARGIN_DEG:
-            raise AmbiguousGeometry(f"bearing {bearing:.1f} deg is near a sector boundary")
-        heading = state.yaw + direction.angle_deg
-        stop = move_stop(state.uav_xy, heading, (ref.x, ref.y), ref.standoff, geo.max_move)
-        if math.dist(stop, (ref.x, ref.y)) > geo.reach_horizontal - REACH_MARGIN:
-            raise AmbiguousGeometry("the move cannot bring the object into reach")
-        self._check_path(state.uav_xy, stop, state.uav_z)
-        self._check_arm(state, state.uav_xy, stop, state.uav_z, exclude)
-        state.uav_xy = (round(stop[0], 4), round(stop[1], 4))
-        return UavStep(direction=direction), _pose(state)
-
-    def _vertical(self, state: _State, op_z: float, target: str) -> tuple[UavStep, UavPose]:
-        """The up/down move to the operating altitude ``op_z``."""
-        self._check_arm(state, state.uav_xy, state.uav_xy, min(op_z, state.uav_z), {target})
-        direction = Direction.UP if op_z > state.uav_z else Direction.DOWN
-        state.uav_z = round(op_z, 4)
-        return UavStep(direction=direction), _pose(state)
 
     # ---- skill effects ----------------------------------------------------------------
     def _apply(self, state: _State, step: ArmStepSpec) -> None:

@@ -1,6 +1,6 @@
 """UAV ``move`` steps (SPEC §7): where a move stops, and flying it with the arm stowed.
 
-Stopping rule, shared with the ground truth through :func:`~vlm_bench.episodes.geometry.move_stop`:
+Stopping rule, shared with the ground truth through :func:`~vlm_bench.rules.move_stop`:
 
 * ``distance`` given: fly exactly that far (at most ``max_move``);
 * horizontal, an ARM step follows: stop where the path first comes to the stand-off of the next
@@ -22,11 +22,11 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.episodes.geometry import move_stop
 from vlm_bench.executor.loop import SimLoop
 from vlm_bench.executor.motion import joint_move
 from vlm_bench.executor.references import Reference
 from vlm_bench.executor.types import FlightConfig
+from vlm_bench.rules import move_stop
 from vlm_bench.sim.constants import ARM_STOW, CONTROL_DT
 from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
