@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 
 import pytest
@@ -14,22 +15,35 @@ from vlm_bench.prompting import (
     check_no_leakage,
     few_shot_examples,
     find_leakage,
+    render_system,
     select_examples,
 )
-from vlm_bench.prompting.examples import instruction_overlap
-from vlm_bench.types.plan import ArmStep, Direction, UavStep
-from vlm_bench.types.prompt import FewShotExample
+from vlm_bench.prompting.examples import (
+    example_entries,
+    example_plan,
+    example_scene_text,
+    instruction_overlap,
+)
+from vlm_bench.rules import ambiguity, parse_scene, plan_from_scene, plan_segments
+from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
+from vlm_bench.types.prompt import ExampleObject, FewShotExample, PromptConfig
 from vlm_bench.types.task import TaskSpec
 
 
-def _example(instruction: str, plan: list[dict[str, object]], objects: list[str]) -> FewShotExample:
+def _example(
+    instruction: str, arm_steps: list[dict[str, object]], objects: list[str]
+) -> FewShotExample:
     return FewShotExample.model_validate(
         {
             "id": "probe",
-            "scene": "A test scene.",
-            "objects": objects,
+            "setting": "A test scene",
+            "uav_height": 1.5,
+            "objects": [
+                {"id": o, "right": 1.0 + i, "forward": 0.5, "bottom": 0.0, "tall": 0.1}
+                for i, o in enumerate(objects)
+            ],
             "instruction": instruction,
-            "plan": plan,
+            "arm_steps": arm_steps,
         }
     )
 
@@ -55,21 +69,55 @@ def _task(instruction: str, steps: list[dict[str, object]], objects: list[str]) 
 
 def test_library_covers_every_arm_skill_and_many_directions() -> None:
     examples = few_shot_examples()
+    plans = [example_plan(ex) for ex in examples]
     assert len(examples) >= 8
-    skills_used = {s.skill for ex in examples for s in ex.plan if isinstance(s, ArmStep)}
+    skills_used = {s.skill for plan in plans for s in plan if isinstance(s, ArmStep)}
     assert skills_used == set(arm_skill_names())
-    directions = {s.direction for ex in examples for s in ex.plan if isinstance(s, UavStep)}
-    assert {Direction.UP, Direction.DOWN} <= directions
+    directions = [s.direction for plan in plans for s in plan if isinstance(s, UavStep)]
+    assert {Direction.UP, Direction.DOWN} <= set(directions)
     assert len({d for d in directions if d.is_horizontal}) == 8
-    assert any(isinstance(ex.plan[0], ArmStep) for ex in examples)  # an in-reach first step
-    assert any(s.target for ex in examples for s in ex.plan if isinstance(s, ArmStep))
+    assert any(isinstance(plan[0], ArmStep) for plan in plans)  # an in-reach first step
+    assert any(s.target for plan in plans for s in plan if isinstance(s, ArmStep))
+    # Both orders of the altitude rule are shown: up before a horizontal move, down after one.
+    pairs = {
+        (a.direction, b.direction)
+        for plan in plans
+        for a, b in itertools.pairwise(plan)
+        if isinstance(a, UavStep) and isinstance(b, UavStep)
+    }
+    assert any(a == Direction.UP and b.is_horizontal for a, b in pairs)
+    assert any(a.is_horizontal and b == Direction.DOWN for a, b in pairs)
 
 
-def test_example_model_rejects_bad_numbering_and_unlisted_objects() -> None:
-    with pytest.raises(ValidationError, match="subtask is 1, expected 0"):
-        _example("Do it.......", [{"subtask": 1, "tasktype": "UAV", "direction": "up"}], ["a"])
+def test_example_plans_are_derived_by_the_rules_with_every_decision_clear() -> None:
+    """The plans shown are the rules' (the GT's :func:`approach_moves`) applied to the scene
+    text shown, and no decision lies within the GT's margins of a threshold."""
+    for ex in few_shot_examples():
+        text = example_scene_text(ex)
+        entries = parse_scene(text)
+        assert entries == example_entries(ex), ex.id  # the text carries every number used
+        assert plan_from_scene(entries, ex.arm_steps) == example_plan(ex), ex.id
+        for segment in plan_segments(entries, ex.arm_steps):
+            assert segment.point is not None, (ex.id, segment.step)
+            assert ambiguity(segment.uav, segment.point) is None, (ex.id, segment.step)
+
+
+def test_example_plans_in_the_prompt_are_the_derived_ones() -> None:
+    examples = few_shot_examples()
+    system = render_system(PromptConfig(k_shot=len(examples)), examples)
+    for ex in examples:
+        shown = json.dumps(plan_to_json(example_plan(ex))[-1])
+        assert shown in system, ex.id
+        assert example_scene_text(ex) in system, ex.id
+
+
+def test_example_model_rejects_unlisted_objects_and_half_parts() -> None:
     with pytest.raises(ValidationError, match="names 'ghost'"):
         _example("Do it.......", [{"tasktype": "ARM", "object": "ghost", "skill": "pick"}], ["a"])
+    with pytest.raises(ValidationError, match="part and part_of"):
+        ExampleObject(id="knob", right=0.0, forward=1.0, bottom=1.0, part="knob")
+    with pytest.raises(ValidationError, match="needs pull"):
+        ExampleObject(id="d", right=0.0, forward=1.0, bottom=1.0, part="drawer", part_of="desk")
 
 
 def test_selection_is_seeded_and_bounded() -> None:
@@ -91,10 +139,11 @@ def test_broken_example_file_names_the_file(tmp_path, monkeypatch: pytest.Monkey
         "examples": [
             {
                 "id": "x",
-                "scene": "A scene here.",
-                "objects": ["a"],
+                "setting": "A scene here",
+                "uav_height": 1.5,
+                "objects": [{"id": "a", "right": 0.0, "forward": 1.0, "bottom": 0.0, "tall": 0.1}],
                 "instruction": "Lift the thing up.",
-                "plan": [{"tasktype": "ARM", "object": "a", "skill": "juggle"}],
+                "arm_steps": [{"tasktype": "ARM", "object": "a", "skill": "juggle"}],
             }
         ]
     }
@@ -116,7 +165,7 @@ def test_leakage_detects_copied_instruction_and_skeleton() -> None:
     )
     copied = _example(
         "Put the gray cube in the yellow basket, please.",
-        [{"tasktype": "UAV", "direction": "front"}],
+        [{"tasktype": "ARM", "object": "yellow_basket", "skill": "push"}],
         ["gray_cube", "yellow_basket"],
     )
     same_plan = _example(
@@ -149,5 +198,5 @@ def test_shipped_examples_do_not_leak_benchmark_tasks() -> None:
         pytest.skip("no benchmark task files yet (ground_truth/tasks is empty)")
     check_no_leakage(few_shot_examples(), tasks)
     task_objects = {o.id for t in tasks for o in t.objects}
-    example_objects = {o for ex in few_shot_examples() for o in ex.objects}
+    example_objects = {o.id for ex in few_shot_examples() for o in ex.objects}
     assert not task_objects & example_objects, "examples must use non-benchmark objects"

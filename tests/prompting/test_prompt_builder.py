@@ -137,8 +137,10 @@ def test_user_turn_labels_each_image_in_view_order() -> None:
 
 def test_object_list_and_instruction_variant() -> None:
     ep = _episode()
-    with_list = render_text(build_prompt(ep, IMAGES))
-    assert "gray_cube, yellow_basket, drawer_cabinet, top_drawer" in with_list
+    prompt = build_prompt(ep, IMAGES)
+    with_list = render_text(prompt)
+    assert sorted(prompt.object_order) == sorted(ep.object_ids())
+    assert f"Objects in the scene: {', '.join(prompt.object_order)}" in with_list
     assert ep.instructions.explicit in with_list
     without = render_text(
         build_prompt(ep, IMAGES, PromptConfig(object_list=False, instruction="implicit"))
@@ -227,3 +229,76 @@ def test_requests_round_trip_through_json() -> None:
     )
     again = GenerationRequest.model_validate_json(req.model_dump_json())
     assert again == req and again.images()[0].png == IMAGES["uav"]
+
+
+def test_object_list_is_shuffled_per_episode_never_target_first() -> None:
+    from vlm_bench.catalog.tasks import all_tasks
+    from vlm_bench.episodes import make_episode
+    from vlm_bench.prompting.builder import object_order
+
+    first_is_target = 0
+    episodes = [make_episode(t, s) for t in all_tasks() for s in range(3)]
+    for ep in episodes:
+        order = object_order(ep)
+        assert sorted(order) == sorted(ep.object_ids())
+        assert order == object_order(ep.model_copy())  # seeded: the same every time
+        first_is_target += order[0] == ep.arm_steps()[0].object
+    # The task files list the target first in 40 of 60 tasks; shuffled, about 1 in 6.
+    assert first_is_target / len(episodes) < 0.3, first_is_target
+    orders = {tuple(object_order(make_episode("standard_pick_place", s))) for s in range(6)}
+    assert len(orders) > 1  # the order changes with the seed
+
+
+def test_scene_as_text_lists_every_object_in_the_object_list_order() -> None:
+    ep = _episode()
+    prompt = build_prompt(ep, IMAGES, PromptConfig(scene_as_text=True))
+    text = render_text(prompt)
+    user = text.split("### user")[1]
+    listed = [
+        line.split(":")[0].split(" (")[0][2:] for line in user.splitlines() if line.startswith("- ")
+    ]
+    assert listed == list(prompt.object_order)
+    assert "# The scene as text" in text
+    assert "# The scene as text" not in render_text(build_prompt(ep, IMAGES))
+
+
+def test_no_images_leaves_no_view_in_either_turn() -> None:
+    prompt = build_prompt(_episode(), {}, PromptConfig(views=()))
+    text = render_text(prompt)
+    assert prompt.images == {} and prompt.views() == []
+    assert "# The camera views" not in text and "<image:" not in text
+    assert "Objects in the scene:" in text
+
+
+def test_rule_numbers_in_the_prompt_are_the_ground_truths() -> None:
+    """Each number the prompt states is computed here from the GT builder's own geometry and
+    constants, independently of :func:`rule_numbers`; a drift in either fails."""
+    import inspect
+    import math
+
+    from vlm_bench.catalog.world import object_kinds
+    from vlm_bench.episodes.ground_truth import GroundTruthBuilder
+    from vlm_bench.rules import work
+    from vlm_bench.types.geometry import APPROACH
+
+    geo = inspect.signature(GroundTruthBuilder).parameters["geometry"].default
+    assert geo is APPROACH  # the geometry episodes are built with
+    system = render_system(PromptConfig(k_shot=0))
+    reach = math.sqrt(geo.reach**2 - geo.op_height**2)
+    standoff = math.sqrt(geo.ideal_standoff**2 - geo.op_height**2)
+    (drawer,) = {p.standoff for k in object_kinds().values() for p in k.parts if p.kind == "drawer"}
+    expected = [
+        f"at most {reach:.2f} m from the UAV's centre, measured horizontally",
+        f"comes within {standoff:.2f} m of the working point",
+        f"({drawer:.2f} m for a drawer's handle or inside)",
+        f"{geo.op_height + geo.arm_base_below_uav:.2f} m above the working point",
+        f"by more than {geo.vertical_threshold:.2f} m",
+        f"is {work.DRAWER_PULL:.2f} m open",
+        f"({work.CONTAINER_FLOOR:.3f} m above its base)",
+        f"({work.DRAWER_FLOOR_BELOW_HANDLE:.2f} m below its handle and "
+        f"{work.DRAWER_INSIDE_BEHIND_HANDLE:.2f} m behind it)",
+        "Each covers 45 degrees",
+        '"up" comes before the step\'s horizontal move, "down" after it',
+    ]
+    for phrase in expected:
+        assert phrase in system, phrase

@@ -4,6 +4,7 @@ do not matter."""
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from typing import Any
 
 import pytest
@@ -12,7 +13,8 @@ from hypothesis import strategies as st
 
 from vlm_bench.catalog.skills import arm_skill_names
 from vlm_bench.parsing import parse_plan
-from vlm_bench.scoring import score_plan
+from vlm_bench.scoring import direction_credit, loc_credits, score_plan
+from vlm_bench.types.parse import ParsedStep
 from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
 from vlm_bench.types.scores import EmptyGtPolicy, PlanScores, ScoringConfig
 
@@ -122,3 +124,51 @@ def test_succ_iff_same_plan(pred: list[UavStep | ArmStep], gt: list[UavStep | Ar
         assert s.s_total == 100 and s.error_types == ()
     else:
         assert s.error_types != ()
+
+
+alignments = st.sampled_from(["segment", "order"])
+
+
+@settings(max_examples=200, deadline=None)
+@given(plans, alignments)
+def test_gt_against_itself_gets_full_s_loc_under_both_alignments(
+    gt: list[UavStep | ArmStep], alignment: str
+) -> None:
+    parsed = parse_plan(json.dumps(plan_to_json(gt)), IDS)
+    s = score_plan(parsed, gt, ScoringConfig(loc_alignment=alignment))  # type: ignore[arg-type]
+    assert s.s_loc == 100 and all(c == 100 for c in s.loc_credit)
+
+
+@settings(max_examples=300, deadline=None)
+@given(predictions, plans, configs, alignments)
+def test_s_loc_stays_in_range_under_both_alignments(
+    pred: list[Any], gt: list[UavStep | ArmStep], config: ScoringConfig, alignment: str
+) -> None:
+    config = config.model_copy(update={"loc_alignment": alignment})
+    s = score_plan(parse_plan(json.dumps(pred), IDS), gt, config)
+    _in_range(s)
+    assert len(s.loc_credit) == s.n_move
+    assert all(0 <= c <= 100 for c in s.loc_credit)
+
+
+def _loc_credits_before_segments(steps: Sequence[ParsedStep], gt: Sequence[Any]) -> list[float]:
+    """``loc_credits`` as it was before the alignment option (the i-th with the i-th)."""
+    predicted = [s for s in steps if s.tasktype == "UAV"]
+    moves = [g for g in gt if isinstance(g, UavStep)]
+    out: list[float] = []
+    for i, g in enumerate(moves):
+        p = predicted[i] if i < len(predicted) else None
+        ok = p is not None and p.valid
+        out.append(direction_credit(p.direction if ok and p else None, g.direction))
+    return out
+
+
+@settings(max_examples=300, deadline=None)
+@given(predictions, plans)
+def test_order_alignment_is_the_old_pairing(pred: list[Any], gt: list[UavStep | ArmStep]) -> None:
+    parsed = parse_plan(json.dumps(pred), IDS)
+    steps = parsed.steps if parsed.usable else ()
+    expected = _loc_credits_before_segments(steps, gt)
+    assert loc_credits(steps, gt, 40.0, "order") == expected
+    s = score_plan(parsed, gt, ScoringConfig(loc_alignment="order"))
+    assert s.loc_credit == tuple(expected)

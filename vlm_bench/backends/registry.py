@@ -1,10 +1,10 @@
 """The backend registry, entry-point plug-ins, and the model-string rules.
 
-Model strings: ``oracle``, ``random``, ``mock`` select the built-ins; ``openai/<name>`` and
-``vllm/<id>`` select those backends; ``<plugin>/<model>`` (or a bare ``<plugin>``) selects a
-backend added through the ``vlm_bench.backends`` entry-point group; anything else (a Hugging
-Face id ``org/name`` or a local path) selects ``hf``. Write ``./vllm/x`` for a local folder
-whose name starts like a backend.
+Model strings: ``oracle``, ``random``, ``blind``, ``rules``, ``mock`` select the built-ins;
+``openai/<name>`` and ``vllm/<id>`` select those backends; ``<plugin>/<model>`` (or a bare
+``<plugin>``) selects a backend added through the ``vlm_bench.backends`` entry-point group;
+anything else (a Hugging Face id ``org/name`` or a local path) selects ``hf``.
+Write ``./vllm/x`` for a local folder whose name starts like a backend.
 """
 
 from __future__ import annotations
@@ -49,6 +49,8 @@ _BUILTIN_SPECS = (
     # name, module, class, selected by <name>/<model>, description
     ("oracle", "builtin", "OracleBackend", False, "returns the GT plan (ceiling)"),
     ("random", "builtin", "RandomBackend", False, "seeded random valid plans (floor)"),
+    ("blind", "blind_planner", "BlindBackend", False, "GT ARM steps, moves guessed (floor)"),
+    ("rules", "rules_planner", "RulesBackend", False, "plans from --scene-as-text (ceiling)"),
     ("mock", "builtin", "MockBackend", False, "scripted outputs (-M file=... or -M text=...)"),
     ("openai", "openai_backend", "OpenAIBackend", True, "OpenAI-compatible server"),
     ("vllm", "vllm_backend", "VllmBackend", True, "offline vLLM engine"),

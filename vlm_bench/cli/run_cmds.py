@@ -78,7 +78,10 @@ def _print_summary(result: RunResult) -> None:
 
 def run(
     model: Annotated[
-        str, typer.Option(help="HF id/path, openai/<name>, vllm/<id>, oracle, random, mock.")
+        str,
+        typer.Option(
+            help="HF id/path, openai/<name>, vllm/<id>, oracle, random, blind, rules, mock."
+        ),
     ],
     task: Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")] = None,
     suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")] = None,
@@ -89,6 +92,18 @@ def run(
     k_shot: Annotated[int, typer.Option(help="Few-shot examples in the prompt.")] = 2,
     no_object_list: Annotated[
         bool, typer.Option("--no-object-list", help="Do not list the scene's object ids.")
+    ] = False,
+    no_images: Annotated[
+        bool,
+        typer.Option("--no-images", help="Text only: no camera views (instruction, objects)."),
+    ] = False,
+    scene_as_text: Annotated[
+        bool,
+        typer.Option(
+            "--scene-as-text",
+            help="Give every object's position in the UAV body frame as text (perfect "
+            "perception).",
+        ),
     ] = False,
     constrained: Annotated[bool, typer.Option(help="JSON-schema constrained decoding.")] = False,
     model_arg: Annotated[
@@ -146,6 +161,8 @@ def run(
         resolution=resolution,
         k_shot=k_shot,
         object_list=not no_object_list,
+        images=not no_images,
+        scene_as_text=scene_as_text,
         generation=generation,
         execute=execute,
         uav_noise=uav_noise,

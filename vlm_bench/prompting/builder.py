@@ -9,9 +9,10 @@ import re
 from collections.abc import Mapping, Sequence
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.prompting.examples import select_examples
+from vlm_bench.prompting.examples import example_plan, example_scene_text, select_examples
 from vlm_bench.prompting.skills_section import skill_rows, skills_digest
 from vlm_bench.prompting.templates import render, templates_digest
+from vlm_bench.rules import format_scene, rule_numbers, scene_entries
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import Direction, plan_to_json
 from vlm_bench.types.prompt import (
@@ -59,18 +60,23 @@ def to_png(image: object) -> bytes:
 
 
 def render_system(config: PromptConfig, examples: Sequence[FewShotExample] = ()) -> str:
-    """The system message: robot, views, skill library, output format, rules, examples."""
+    """The system message: robot, views, skill library, the movement rules (their numbers
+    from :func:`~vlm_bench.rules.rule_numbers`, the GT's own), output format, examples."""
     shots = ""
     if examples:
         shots = render(
             "few_shot.j2",
             examples=[
                 {
-                    **ex.model_dump(include={"id", "scene", "objects", "instruction"}),
-                    "plan": plan_to_json(ex.plan),
+                    "id": ex.id,
+                    "setting": ex.setting,
+                    "scene": example_scene_text(ex),
+                    "instruction": ex.instruction,
+                    "plan": plan_to_json(example_plan(ex)),
                 }
                 for ex in examples
             ],
+            scene_as_text=config.scene_as_text,
         ).strip()
     return render(
         "system.j2",
@@ -78,8 +84,29 @@ def render_system(config: PromptConfig, examples: Sequence[FewShotExample] = ())
         views=list(config.views),
         skills=skill_rows(),
         object_list=config.object_list,
+        scene_as_text=config.scene_as_text,
+        rules=rule_numbers(),
         examples=shots,
     )
+
+
+def _rank(key: str, item: str) -> bytes:
+    return hashlib.sha256(f"objects|{key}|{item}".encode()).digest()
+
+
+def object_order(episode: Episode) -> list[str]:
+    """The episode's object and part ids in a seeded shuffled order (the same for both
+    instruction variants), so that no list puts the target first."""
+    key = episode_key(episode)
+    return sorted(episode.object_ids(), key=lambda item: _rank(key, item))
+
+
+def scene_text(episode: Episode, order: Sequence[str]) -> str:
+    """The scene as text (``--scene-as-text``): every object and part in the body frame at the
+    start, listed in ``order``."""
+    rank = {item: i for i, item in enumerate(order)}
+    entries = sorted(scene_entries(episode), key=lambda e: rank.get(e.id, len(rank)))
+    return format_scene(entries, episode.uav_start.pos[2])
 
 
 def _user_parts(text: str) -> tuple[PromptPart, ...]:
@@ -134,11 +161,13 @@ def build_prompt(
     key = episode_key(episode) if config.few_shot_selection == "per_episode" else ""
     examples = select_examples(config.k_shot, config.few_shot_seed, key)
     system = render_system(config, examples)
+    order = object_order(episode)
     text = render(
         "user.j2",
         views=list(config.views),
         image=lambda view: _SLOT.format(view),
-        object_ids=episode.object_ids() if config.object_list else None,
+        object_ids=order if config.object_list else None,
+        scene=scene_text(episode, order) if config.scene_as_text else None,
         instruction=episode.instruction(config.instruction),
     )
     user = _user_parts(text)
@@ -148,6 +177,7 @@ def build_prompt(
         user=user,
         prompt_hash=_hash(system, user),
         example_ids=tuple(ex.id for ex in examples),
+        object_order=tuple(order),
         images=pngs,
     )
 

@@ -1,4 +1,12 @@
-"""Few-shot example scenes: loading, seeded selection and the leakage check."""
+"""Few-shot example scenes: loading, their scene text and derived plans, seeded selection and
+the leakage check.
+
+An example is data: objects placed relative to the UAV and the ARM steps its instruction asks
+for. Its scene text is written by the same :func:`~vlm_bench.rules.format_scene` as
+``--scene-as-text``, and its UAV moves are derived by the prompt's rules
+(:func:`~vlm_bench.rules.plan_from_scene`, the GT builder's own :func:`approach_moves`), so no
+example can teach a rule the ground truth does not follow.
+"""
 
 from __future__ import annotations
 
@@ -14,8 +22,17 @@ from vlm_bench.catalog.files import load_model
 from vlm_bench.catalog.skills import skills
 from vlm_bench.errors import ConfigError, DataFileError
 from vlm_bench.resources import prompts_dir
-from vlm_bench.types.plan import ArmStep
-from vlm_bench.types.prompt import FewShotExample, FewShotLibrary
+from vlm_bench.rules import (
+    DRAWER_FLOOR_BELOW_HANDLE,
+    DRAWER_INSIDE_BEHIND_HANDLE,
+    SceneEntry,
+    format_scene,
+    plan_from_scene,
+    rule_numbers,
+)
+from vlm_bench.rules.work import rest_height
+from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.prompt import ExampleObject, FewShotExample, FewShotLibrary
 from vlm_bench.types.task import TaskSpec
 from vlm_bench.types.world import Frozen
 
@@ -41,20 +58,73 @@ def few_shot_examples() -> tuple[FewShotExample, ...]:
     library = load_model(path, FewShotLibrary)
     table = skills()
     for n, ex in enumerate(library.examples):
-        for i, step in enumerate(ex.plan):
-            if isinstance(step, ArmStep) and (
-                step.skill not in table or table[step.skill].agent != "ARM"
-            ):
+        for i, step in enumerate(ex.arm_steps):
+            if step.skill not in table or table[step.skill].agent != "ARM":
                 arm = sorted(s for s, v in table.items() if v.agent == "ARM")
                 raise DataFileError(
                     str(path),
-                    f"examples[{n}].plan[{i}].skill: {step.skill!r} is not an ARM skill; "
+                    f"examples[{n}].arm_steps[{i}].skill: {step.skill!r} is not an ARM skill; "
                     f"valid: {', '.join(arm)}",
                 )
     dup = [i for i, c in Counter(ex.id for ex in library.examples).items() if c > 1]
     if dup:
         raise DataFileError(str(path), f"examples: duplicate id {dup[0]!r}")
     return library.examples
+
+
+def _entry(obj: ExampleObject, uav_height: float) -> SceneEntry:
+    """An example object as the scene text describes it (body frame, UAV centre at 0)."""
+    if obj.part is None:
+        centre = obj.bottom + obj.tall / 2
+        rest = rest_height(obj.bottom, obj.tall, container=obj.holds == "in", support=False)
+        return SceneEntry(
+            id=obj.id,
+            kind="object",
+            point=(obj.right, obj.forward, round(centre - uav_height, 2)),
+            floor_height=round(centre, 2),
+            tall=obj.tall,
+            rest=(obj.right, obj.forward, round(rest - uav_height, 2)),
+        )
+    handle = (obj.right, obj.forward, round(obj.bottom - uav_height, 2))
+    if obj.part == "knob":
+        return SceneEntry(
+            id=obj.id, kind="knob", point=handle, floor_height=obj.bottom, owner=obj.part_of
+        )
+    assert obj.pull is not None  # a drawer has one (ExampleObject checks)
+    px, py = obj.pull
+    norm = (px * px + py * py) ** 0.5
+    pull = (round(px / norm, 3), round(py / norm, 3))
+    inside = (
+        round(obj.right - pull[0] * DRAWER_INSIDE_BEHIND_HANDLE, 2),
+        round(obj.forward - pull[1] * DRAWER_INSIDE_BEHIND_HANDLE, 2),
+        round(obj.bottom - DRAWER_FLOOR_BELOW_HANDLE - uav_height, 2),
+    )
+    return SceneEntry(
+        id=obj.id,
+        kind="drawer",
+        point=handle,
+        floor_height=obj.bottom,
+        owner=obj.part_of,
+        opening=obj.opening,
+        pull=pull,
+        rest=inside,
+        standoff=rule_numbers().drawer_standoff,
+    )
+
+
+def example_entries(example: FewShotExample) -> list[SceneEntry]:
+    """The example's objects and parts as scene entries, in file order."""
+    return [_entry(obj, example.uav_height) for obj in example.objects]
+
+
+def example_scene_text(example: FewShotExample) -> str:
+    """The example's scene in the words of ``--scene-as-text``."""
+    return format_scene(example_entries(example), example.uav_height)
+
+
+def example_plan(example: FewShotExample) -> list[UavStep | ArmStep]:
+    """The example's plan: its ARM steps with the UAV moves the prompt's rules give."""
+    return plan_from_scene(example_entries(example), example.arm_steps)
 
 
 def _rank(seed: int, key: str, example_id: str) -> bytes:
@@ -106,7 +176,7 @@ def _skeleton(steps: Iterable[tuple[str, str, str | None]]) -> Counter[tuple[str
 
 def skeleton_overlap(example: FewShotExample, task: TaskSpec) -> float:
     """Share of (skill, object, target) ARM steps the example has in common with the task."""
-    ex = _skeleton((s.skill, s.object, s.target) for s in example.plan if isinstance(s, ArmStep))
+    ex = _skeleton((s.skill, s.object, s.target) for s in example.arm_steps)
     gt = _skeleton((s.skill, s.object, s.target) for s in task.arm_steps)
     common = sum((ex & gt).values())
     return common / max(sum(ex.values()), sum(gt.values()), 1)

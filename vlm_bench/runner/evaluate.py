@@ -48,6 +48,8 @@ class EpisodeInfo:
     variant: InstructionVariant
     model: str
     prompt_hash: str
+    object_order: tuple[str, ...] = ()
+    first_target_visible: bool | None = None
 
 
 def scored_record(
@@ -59,6 +61,7 @@ def scored_record(
     return EpisodeRecord(
         run_id=info.run_id, key=info.key, task_id=episode.task_id, suite=episode.suite,
         seed=episode.seed, variant=info.variant, model=info.model, prompt_hash=info.prompt_hash,
+        object_order=info.object_order, first_target_visible=info.first_target_visible,
         raw_output=response.text, parse=ev.parse, plan=ev.plan,
         gt_plan=plan_to_json(episode.gt_plan), scores=ev.scores, error_tags=ev.error_tags,
         latency_s=response.latency_s, prompt_tokens=response.prompt_tokens,
@@ -74,6 +77,7 @@ def error_record(
     return EpisodeRecord(
         run_id=info.run_id, key=info.key, task_id=episode.task_id, suite=episode.suite,
         seed=episode.seed, variant=info.variant, model=info.model, prompt_hash=info.prompt_hash,
+        object_order=info.object_order, first_target_visible=info.first_target_visible,
         gt_plan=plan_to_json(episode.gt_plan), latency_s=latency_s, backend_error=error,
         error_tags=("backend_error",), status="error",
     )

@@ -23,6 +23,7 @@ from vlm_bench.runner.execution import PlanExecutor
 from vlm_bench.runner.interrupt import StopFlag
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.runner.snapshots import SnapshotSource
+from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import GenerationRequest, GenerationResult, RequestMeta
@@ -142,14 +143,24 @@ class EpisodePipeline:
             ref.key,
             episode_id=ref.key,
             meta=RequestMeta(
-                task_id=ref.task_id, gt_plan=episode.gt_plan, object_ids=tuple(object_ids)
+                task_id=ref.task_id,
+                seed=ref.seed,
+                gt_plan=episode.gt_plan,
+                arm_steps=tuple(episode.arm_steps()),
+                object_ids=tuple(object_ids),
             ),
             json_schema=plan_json_schema(object_ids)
             if self.config.generation.constrained
             else None,
         )
         info = EpisodeInfo(
-            self.store.paths.run_id, ref.key, ref.variant, self.config.model, prompt.prompt_hash
+            self.store.paths.run_id,
+            ref.key,
+            ref.variant,
+            self.config.model,
+            prompt.prompt_hash,
+            object_order=prompt.object_order,
+            first_target_visible=first_target_visible(episode),
         )
         return _Prepared(ref, episode, info, request)
 

@@ -11,6 +11,7 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
 from vlm_bench.runner.execution import PlanExecutor
 from vlm_bench.runner.progress import progress_bar
+from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import plan_to_json
@@ -96,7 +97,15 @@ def _rescored(
     executor: PlanExecutor | None,
 ) -> EpisodeRecord:
     """The record recomputed from its cached answer (and executed again if ``executor``)."""
-    info = EpisodeInfo(record.run_id, record.key, record.variant, record.model, record.prompt_hash)
+    info = EpisodeInfo(
+        record.run_id,
+        record.key,
+        record.variant,
+        record.model,
+        record.prompt_hash,
+        object_order=record.object_order,
+        first_target_visible=first_target_visible(episode),
+    )
     new = scored_record(info, episode, _response(store, record), scoring, cached=record.cached)
     if executor is not None:
         new = executor.execute(episode, new)

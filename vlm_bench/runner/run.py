@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vlm_bench.backends import Backend, resolve_backend, split_model
+from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
@@ -81,7 +82,8 @@ class _LazyBackend:
 @contextmanager
 def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[SnapshotSource]:
     cache = SnapshotCache(cache_dir) if cache_dir is not None else None
-    source = SnapshotSource(config.views, config.resolution, config.labels, cache)
+    views = config.views if config.images else ()
+    source = SnapshotSource(views, config.resolution, config.labels, cache)
     try:
         yield source
     finally:
@@ -121,6 +123,8 @@ def execute_run(
         )
     refs = select_episodes(config)
     backend_name = backend.name if backend is not None else split_model(config.model)[0]
+    if backend_name == "rules" and not config.scene_as_text:
+        raise ConfigError(NO_SCENE)  # before the folder is written
     cache_dir = (
         default_snapshot_cache(run_dir) if snapshot_cache is True else snapshot_cache or None
     )

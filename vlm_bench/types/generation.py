@@ -6,7 +6,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from vlm_bench.types.plan import PlanStep
+from vlm_bench.types.plan import ArmStep, PlanStep
 from vlm_bench.types.prompt import TextPart
 from vlm_bench.types.world import Frozen
 
@@ -30,11 +30,16 @@ class RequestMeta(Frozen):
     """Episode facts for the built-in backends that need no weights (never shown to a model).
 
     The runner fills it for every request: ``oracle`` answers ``gt_plan``; ``random`` draws
-    objects from ``object_ids``. Model backends ignore it.
+    objects from ``object_ids``; ``blind`` and ``rules`` read only ``arm_steps`` (perfect
+    language) and, for ``blind``, ``task_id`` and ``seed``. Model backends ignore it.
     """
 
     task_id: str = Field(default="", description="Task the episode belongs to.")
+    seed: int | None = Field(default=None, description="The episode's seed.")
     gt_plan: tuple[PlanStep, ...] | None = Field(default=None, description="The episode's GT plan.")
+    arm_steps: tuple[ArmStep, ...] | None = Field(
+        default=None, description="The GT's ARM steps alone (what the instruction asks for)."
+    )
     object_ids: tuple[str, ...] = Field(default=(), description="Ids a plan may reference.")
 
 

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import re
 from typing import TYPE_CHECKING, Annotated, Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from vlm_bench.types.plan import ArmStep, PlanStep
+from vlm_bench.types.plan import ArmStep
 from vlm_bench.types.task import InstructionVariant
 from vlm_bench.types.world import SNAKE, Frozen
 
@@ -32,6 +31,11 @@ class PromptConfig(Frozen):
     )
     views: tuple[View, ...] = Field(default=VIEWS, description="Camera views shown, in order.")
     object_list: bool = Field(default=True, description="List the scene's object ids.")
+    scene_as_text: bool = Field(
+        default=False,
+        description="Give every object's position in the UAV body frame as text (perfect "
+        "perception).",
+    )
     instruction: InstructionVariant = Field(default="explicit", description="Instruction variant.")
 
     @field_validator("views")
@@ -66,6 +70,9 @@ class Prompt(Frozen):
     user: tuple[PromptPart, ...] = Field(description="User turn: text parts and image slots.")
     prompt_hash: str = Field(description="sha256 of rendered text, templates and skill library.")
     example_ids: tuple[str, ...] = Field(default=(), description="Few-shot examples shown.")
+    object_order: tuple[str, ...] = Field(
+        default=(), description="Object and part ids in the order the user turn lists them."
+    )
     images: dict[str, bytes] = Field(
         default_factory=dict, exclude=True, repr=False, description="PNG bytes by view."
     )
@@ -101,40 +108,62 @@ class Prompt(Frozen):
         )
 
 
-class FewShotExample(Frozen):
-    """A hand-written example scene (never a benchmark task), shown as text in the prompt."""
+class ExampleObject(Frozen):
+    """An object (or a drawer or knob of one) of a few-shot example scene, placed relative to
+    the UAV: the scene text and the plan are derived from these numbers, never typed."""
 
-    id: str = Field(pattern=SNAKE, description="Stable example id.")
-    scene: str = Field(min_length=8, description="Where things are relative to the UAV, in words.")
-    objects: tuple[str, ...] = Field(min_length=1, description="Object ids in the scene.")
-    instruction: str = Field(min_length=8, description="The instruction given for the scene.")
-    plan: tuple[PlanStep, ...] = Field(min_length=1, description="The correct plan.")
-
-    @field_validator("plan", mode="before")
-    @classmethod
-    def _strip_subtask_numbers(cls, plan: object) -> object:
-        # The file holds plans in the paper's format; subtask numbers must count from 0.
-        if not isinstance(plan, list | tuple):
-            return plan
-        out: list[object] = []
-        for i, step in enumerate(plan):
-            if isinstance(step, dict) and "subtask" in step:
-                if step["subtask"] != i:
-                    raise ValueError(f"plan[{i}].subtask is {step['subtask']!r}, expected {i}")
-                step = {k: v for k, v in step.items() if k != "subtask"}
-            out.append(step)
-        return out
+    id: str = Field(pattern=SNAKE, description="Object or part id.")
+    right: float = Field(description="Metres right of the UAV's centre (its centre/handle).")
+    forward: float = Field(description="Metres ahead of the UAV's centre.")
+    bottom: float = Field(ge=0, description="Height of its bottom (a part: its handle) (m).")
+    tall: float = Field(default=0.0, ge=0, description="Its height (m); 0 for a part.")
+    holds: Literal["on", "in"] = Field(
+        default="on", description="Objects placed on it rest on its top, or in it on its floor."
+    )
+    part_of: str | None = Field(default=None, description="The object a drawer/knob belongs to.")
+    part: Literal["drawer", "knob"] | None = Field(default=None, description="Part mechanism.")
+    opening: float = Field(default=0.0, ge=0, description="How far a drawer is open (m).")
+    pull: tuple[float, float] | None = Field(
+        default=None, description="Direction (right, forward) a drawer pulls out."
+    )
 
     @model_validator(mode="after")
-    def _plan_uses_listed_objects(self) -> FewShotExample:
+    def _part_fields(self) -> ExampleObject:
+        if (self.part is None) != (self.part_of is None):
+            raise ValueError(f"{self.id}: give both part and part_of, or neither")
+        if (self.part == "drawer") != (self.pull is not None):
+            raise ValueError(f"{self.id}: a drawer, and only a drawer, needs pull")
+        return self
+
+
+class FewShotExample(Frozen):
+    """A few-shot example scene (never a benchmark task): positions relative to the UAV and the
+    ARM steps the instruction asks for. Its scene text and its UAV moves are derived by the
+    prompt's rules (:func:`vlm_bench.prompting.examples.example_plan`)."""
+
+    id: str = Field(pattern=SNAKE, description="Stable example id.")
+    setting: str = Field(min_length=4, description="Where the scene is, in a few words.")
+    uav_height: float = Field(gt=0, description="Height of the UAV's centre above the floor (m).")
+    objects: tuple[ExampleObject, ...] = Field(min_length=1, description="The scene.")
+    instruction: str = Field(min_length=8, description="The instruction given for the scene.")
+    arm_steps: tuple[ArmStep, ...] = Field(min_length=1, description="The ARM steps it needs.")
+
+    def object_ids(self) -> list[str]:
+        """Ids of the scene's objects and parts."""
+        return [o.id for o in self.objects]
+
+    @model_validator(mode="after")
+    def _steps_use_listed_objects(self) -> FewShotExample:
+        ids = set(self.object_ids())
+        if len(ids) != len(self.objects):
+            raise ValueError("object ids must be unique")
+        for i, step in enumerate(self.arm_steps):
+            for ref in (step.object, step.target):
+                if ref is not None and ref not in ids:
+                    raise ValueError(f"arm_steps[{i}] names {ref!r}, not in objects")
         for obj in self.objects:
-            if not re.match(SNAKE, obj):
-                raise ValueError(f"object id {obj!r} is not snake_case")
-        for i, step in enumerate(self.plan):
-            if isinstance(step, ArmStep):
-                for ref in (step.object, step.target):
-                    if ref is not None and ref not in self.objects:
-                        raise ValueError(f"plan[{i}] names {ref!r}, not in objects")
+            if obj.part_of is not None and obj.part_of not in ids:
+                raise ValueError(f"{obj.id}: part_of {obj.part_of!r} is not in objects")
         return self
 
 

@@ -56,6 +56,12 @@ class EpisodeRecord(Tolerant):
     variant: InstructionVariant = Field(description="Instruction variant (explicit/implicit).")
     model: str = Field(description="Model string of the run.")
     prompt_hash: str = Field(default="", description="Prompt.prompt_hash of the request.")
+    object_order: tuple[str, ...] = Field(
+        default=(), description="Object ids in the order the prompt listed them (shuffled)."
+    )
+    first_target_visible: bool | None = Field(
+        default=None, description="The first ARM step's object is in the uav view at the start."
+    )
     raw_output: str = Field(default="", description="The model's text, verbatim.")
     parse: ParseResult | None = Field(default=None, description="Parser result (None on error).")
     plan: list[dict[str, Any]] | None = Field(

@@ -37,8 +37,12 @@ OPERATIONAL_BACKEND_ARGS = frozenset(
 )
 """Backend arguments that change speed or placement, never results (left out of the hash)."""
 
-FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0}
+FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0, "images": True, "scene_as_text": False}
 """Fields added after the first release, with their defaults (hashed only when different)."""
+
+SCORING_FIELDS_ADDED_LATER: dict[str, Any] = {"loc_alignment": "order"}
+"""Scoring fields added later, with the value every run had before them: hashed only when
+different, and filled in when an older manifest, which lacks them, is read."""
 
 _SECRET = re.compile(r"key|token|secret|password", re.IGNORECASE)
 REDACTED = "***"
@@ -68,6 +72,12 @@ class RunConfig(Frozen):
     k_shot: int = Field(default=2, ge=0, description="Few-shot examples in the system prompt.")
     few_shot_seed: int = Field(default=0, ge=0, description="Seed of the few-shot selection.")
     object_list: bool = Field(default=True, description="List the scene's object ids.")
+    images: bool = Field(
+        default=True, description="Show the camera views (False: text only, --no-images)."
+    )
+    scene_as_text: bool = Field(
+        default=False, description="Give object positions in the UAV body frame as text."
+    )
     generation: GenerationConfig = Field(
         default_factory=GenerationConfig, description="Decoding settings (incl. constrained)."
     )
@@ -122,8 +132,9 @@ class RunConfig(Frozen):
         return PromptConfig(
             k_shot=self.k_shot,
             few_shot_seed=self.few_shot_seed,
-            views=self.views,
+            views=self.views if self.images else (),
             object_list=self.object_list,
+            scene_as_text=self.scene_as_text,
             instruction=variant,
         )
 
@@ -139,6 +150,9 @@ class RunConfig(Frozen):
         for name, default in FIELDS_ADDED_LATER.items():
             if data.get(name) == default:
                 del data[name]
+        for name, default in SCORING_FIELDS_ADDED_LATER.items():
+            if data["scoring"].get(name) == default:
+                del data["scoring"][name]
         return data
 
     def config_hash(self) -> str:
@@ -210,3 +224,15 @@ class RunManifest(Frozen):
     python: str = Field(default="", description="Python version.")
     platform: str = Field(default="", description="OS and machine.")
     created: datetime = Field(description="When the run folder was created (UTC).")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _older_scoring(cls, data: Any) -> Any:
+        # A manifest lists every field it knew; one without a later scoring field was written
+        # before it existed, when every run scored the earlier way.
+        config = data.get("config") if isinstance(data, dict) else None
+        scoring = config.get("scoring") if isinstance(config, dict) else None
+        if isinstance(scoring, dict):
+            for name, before in SCORING_FIELDS_ADDED_LATER.items():
+                scoring.setdefault(name, before)
+        return data

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from enum import StrEnum
+from typing import Literal
 
 from pydantic import Field, model_validator
 
@@ -23,6 +24,13 @@ class EmptyGtPolicy(StrEnum):
     """Always 100: nothing to get right (extra steps are still penalised by S_plan)."""
 
 
+LocAlignment = Literal["segment", "order"]
+"""How S_loc pairs predicted UAV steps with GT UAV steps (see :mod:`vlm_bench.scoring.metrics`):
+``segment`` compares the moves leading to the k-th ARM step with those leading to the k-th
+predicted ARM step, horizontal with horizontal and vertical with vertical, each by order;
+``order`` pairs the i-th GT move with the i-th predicted UAV step (the paper read literally)."""
+
+
 class ScoreWeights(Frozen):
     """Weights of S_total; non-negative and summing to 1 so that S_total stays in [0, 100]."""
 
@@ -40,7 +48,13 @@ class ScoreWeights(Frozen):
 
 
 class ScoringConfig(Frozen):
-    """The open choices of the metrics (SPEC §6); defaults follow the paper."""
+    """The open choices of the metrics (SPEC §6); defaults follow the paper except
+    ``loc_alignment``, whose default ``segment`` replaces the paper's literal order pairing.
+
+    ``loc_alignment`` was added after the first release. A run manifest written before it
+    lacks the field and loads as ``order`` (how those runs were scored), so rescoring or resuming
+    an older run reproduces its S_loc; a new run scores by ``segment`` unless told otherwise.
+    """
 
     alpha: float = Field(default=0.5, ge=0, le=1, description="Type-accuracy weight in S_plan.")
     weights: ScoreWeights = Field(default_factory=ScoreWeights, description="S_total weights.")
@@ -50,6 +64,11 @@ class ScoringConfig(Frozen):
     empty_gt: EmptyGtPolicy = Field(
         default=EmptyGtPolicy.STRICT,
         description="S_loc/S_obj/S_skill when the GT has no moves/references/ARM skills.",
+    )
+    loc_alignment: LocAlignment = Field(
+        default="segment",
+        description="S_loc pairing: 'segment' (moves before the same ARM step, horizontal and "
+        "vertical apart) or 'order' (i-th GT move vs i-th predicted UAV step, the paper's).",
     )
 
 

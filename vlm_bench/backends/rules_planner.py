@@ -1,0 +1,69 @@
+"""``rules``: perfect perception (the scene as text) and perfect language, planned by the prompt's
+rules alone — the ceiling that separates perception from planning.
+
+It reads two things: the scene text in the prompt's user turn (``--scene-as-text``: every object's
+position in the UAV body frame, what a perfect perceiver would read off the images) and the ARM
+steps the instruction asks for (``RequestMeta.arm_steps``, what a perfect reader of the
+instruction writes). Its UAV moves come from :func:`vlm_bench.rules.plan_from_scene`, the rules
+the system prompt states. It never sees the episode: an import-linter contract forbids this
+module to import ``vlm_bench.episodes``, ``vlm_bench.sim`` or ``vlm_bench.runner``. That it scores
+100 on every task proves the prompt states everything the GT needs.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Sequence
+
+from vlm_bench.backends.base import Backend, BackendArgs
+from vlm_bench.errors import ConfigError
+from vlm_bench.rules import parse_scene, plan_from_scene
+from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
+from vlm_bench.types.plan import plan_to_json
+from vlm_bench.types.prompt import TextPart
+
+NO_SCENE = "backend 'rules' plans from the scene as text; run it with --scene-as-text"
+
+
+def prompt_text(request: GenerationRequest) -> str:
+    """The text of a request's user turn (images left out)."""
+    return "\n".join(p.text for p in request.user if isinstance(p, TextPart))
+
+
+class RulesBackend(Backend):
+    """Plans from the prompt's scene text and rules (see module doc)."""
+
+    name = "rules"
+
+    def __init__(self, model: str = "", args: BackendArgs | None = None) -> None:
+        self.args = args or BackendArgs()
+
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        """One rules plan per request.
+
+        Raises:
+            ConfigError: A request has no scene text (the run lacks ``--scene-as-text``).
+        """
+        out: list[GenerationResult] = []
+        for req in requests:
+            start = time.perf_counter()
+            entries = parse_scene(prompt_text(req))
+            if not entries:
+                raise ConfigError(NO_SCENE)
+            if req.meta is None or req.meta.arm_steps is None:
+                error = "rules: request has no meta.arm_steps"
+                out.append(GenerationResult(id=req.id, error=error))
+                continue
+            plan = plan_from_scene(entries, req.meta.arm_steps)
+            out.append(
+                GenerationResult(
+                    id=req.id,
+                    text=json.dumps(plan_to_json(plan)),
+                    latency_s=time.perf_counter() - start,
+                    finish_reason="stop",
+                )
+            )
+        return out
