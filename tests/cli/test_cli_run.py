@@ -104,6 +104,24 @@ def test_random_run_scores_far_below(tmp_path: Path) -> None:
     assert overall.S_total < 60.0 and overall.Succ <= 10.0, overall
 
 
+def test_perception_conditions_through_the_cli(tmp_path: Path) -> None:
+    """--scene-as-text with the rules planner is perfect; --no-images sends no image; the
+    records carry the shuffled object order and whether the first target was in view."""
+    out = tmp_path / "rules"
+    printed = _invoke(*_run_args(out, "rules", FEW), "--scene-as-text", "--no-images")
+    summary = pd.read_csv(out / "summary.csv")
+    assert (summary[METRICS] == 100.0).all().all(), summary
+    assert "ΔLoc" in printed
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["config"]["scene_as_text"] is True and manifest["config"]["images"] is False
+    records = latest_records(out / "records.jsonl")
+    for record in records:
+        episode = make_episode(record.task_id, record.seed)
+        assert sorted(record.object_order) == sorted(episode.object_ids())
+        assert isinstance(record.first_target_visible, bool)
+    assert not (tmp_path / ".snapshots").exists() or not any((tmp_path / ".snapshots").iterdir())
+
+
 @pytest.mark.slow
 def test_oracle_full_sweep_all_60_tasks(tmp_path: Path) -> None:
     out = tmp_path / "full"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pandas as pd
@@ -86,7 +87,7 @@ def test_rows_are_ordered_like_the_paper(frame: pd.DataFrame) -> None:
     assert list(m1[m1.instruction == "explicit"].suite) == [
         "base_manipulation", "long_horizon", "overall"]
     assert list(long.columns) == ["model", "instruction", "suite", "S_plan", "S_loc", "S_obj",
-                                  "S_skill", "S_total", "Succ", "n", "n_error"]
+                                  "S_skill", "S_total", "Succ", "Loc_over_blind", "n", "n_error"]
 
 
 def test_a_suite_with_only_errors_leaves_overall_undefined() -> None:
@@ -103,14 +104,14 @@ def test_wide_markdown_and_rich_layouts(frame: pd.DataFrame) -> None:
     assert list(wide.index) == [("m1", "explicit"), ("m1", "implicit"), ("m1", "both"),
                                 ("m2", "explicit")]
     assert wide.columns[0] == ("base_manipulation", "S_plan")
-    assert wide.columns[-1] == ("overall", "Succ")
+    assert wide.columns[-1] == ("overall", "Loc_over_blind")
     assert wide.loc[("m1", "explicit"), ("overall", "S_total")] == pytest.approx(60.0)
     md = summary_markdown(long)
     header = md.splitlines()[0]
     assert header.startswith("| Model | Instr. | BM Plan | BM Loc | BM Obj | BM Skill | BM Tot")
-    assert "| Overall Tot | Overall Succ |" in header
+    assert "| Overall Tot | Overall Succ | Overall ΔLoc |" in header
     assert "| m1 | explicit | 100.0 |" in md and "LH = Long-Horizon" in md
-    assert len(summary_rich(long).columns) == 2 + 3 * 6
+    assert len(summary_rich(long).columns) == 2 + 3 * 7
     narrow = summary_rich(long, width=80)
     assert [c.header for c in narrow.columns][2:4] == ["Suite", "Plan"]
     assert narrow.row_count == len(long)
@@ -131,3 +132,23 @@ def test_write_summary_files_from_the_run_folder(tmp_path: Path, frame: pd.DataF
 def test_empty_frame_gives_an_empty_summary() -> None:
     long = summary_long(records_frame([]))
     assert long.empty and "No episodes" in summary_markdown(long)
+
+
+def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode() -> None:
+    from vlm_bench import score_output
+    from vlm_bench.backends.blind_planner import blind_plan
+    from vlm_bench.episodes import make_episode
+    from vlm_bench.types.plan import plan_to_json
+
+    ep = make_episode("drawer_interaction", 3)
+    gt = plan_to_json(ep.gt_plan)
+    blind = json.dumps(plan_to_json(blind_plan(ep.task_id, ep.seed, ep.arm_steps())))
+    floor = score_output(ep.task_id, ep.seed, blind)["scores"]["s_loc"]
+    record = EpisodeRecord(
+        run_id="r", key="k", task_id=ep.task_id, suite=ep.suite, seed=ep.seed,
+        variant="explicit", model="m", gt_plan=gt, scores=_scores(100.0, True), status="ok",
+    )
+    row = records_frame([record]).iloc[0]
+    assert row.S_loc_blind == pytest.approx(floor)
+    assert row.Loc_over_blind == pytest.approx(100.0 - floor)
+    assert floor < 100.0

@@ -8,8 +8,12 @@ from pathlib import Path
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
+from vlm_bench.report.floors import blind_s_loc
 from vlm_bench.storage import NotARunError, RunPaths, latest_records, read_manifest
 from vlm_bench.types.records import EpisodeRecord
+from vlm_bench.types.scores import ScoringConfig
+
+DEFAULT = ScoringConfig()
 
 METRICS = ("S_plan", "S_loc", "S_obj", "S_skill", "S_total")
 """Score columns, in the paper's order (Plan, Loc, Obj, Skill, Tot); Succ follows."""
@@ -31,6 +35,9 @@ COLUMNS = (
     "tier",
     *METRICS,
     "Succ",
+    "S_loc_blind",
+    "Loc_over_blind",
+    "first_target_visible",
     *EXEC_METRICS,
     "exec_failure",
     "error_tags",
@@ -60,8 +67,9 @@ def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
     }
 
 
-def _row(record: EpisodeRecord, executed: bool) -> dict[str, object]:
+def _row(record: EpisodeRecord, executed: bool, scoring: ScoringConfig) -> dict[str, object]:
     scores = record.scores
+    floor = blind_s_loc(record, scoring) if scores else None
     return {
         "run_id": record.run_id,
         "model": record.model,
@@ -78,6 +86,9 @@ def _row(record: EpisodeRecord, executed: bool) -> dict[str, object]:
         "S_skill": scores.s_skill if scores else None,
         "S_total": scores.s_total if scores else None,
         "Succ": scores.succ if scores else None,
+        "S_loc_blind": floor,
+        "Loc_over_blind": scores.s_loc - floor if scores and floor is not None else None,
+        "first_target_visible": record.first_target_visible,
         **_exec_values(record, executed),
         "error_tags": ",".join(record.error_tags),
         "latency_s": record.latency_s,
@@ -96,7 +107,9 @@ def executing_runs(records: Iterable[EpisodeRecord]) -> dict[str, bool]:
 
 
 def records_frame(
-    records: Iterable[EpisodeRecord], executed: Mapping[str, bool] | None = None
+    records: Iterable[EpisodeRecord],
+    executed: Mapping[str, bool] | None = None,
+    scoring: Mapping[str, ScoringConfig] | None = None,
 ) -> pd.DataFrame:
     """One row per record with the columns of :data:`COLUMNS`.
 
@@ -104,15 +117,18 @@ def records_frame(
         records: Episode records of one or more runs.
         executed: Whether each run (by run id) executes plans, from its manifest's
             ``config.execute``; runs missing there are guessed by :func:`executing_runs`.
+        scoring: Each run's scoring options (by run id), for the ``blind`` floor's S_loc
+            (``S_loc_blind``, see :mod:`vlm_bench.report.floors`); default options otherwise.
 
     Score columns are NaN (and ``Succ`` is None) for records whose backend failed
     (``status == "error"``); see :data:`EXEC_METRICS` for the execution columns.
     """
     records = list(records)
     runs = {**executing_runs(records), **(executed or {})}
-    rows = [_row(r, runs[r.run_id]) for r in records]
+    options = scoring or {}
+    rows = [_row(r, runs[r.run_id], options.get(r.run_id, DEFAULT)) for r in records]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
-    for col in (*METRICS, *EXEC_METRICS):
+    for col in (*METRICS, "S_loc_blind", "Loc_over_blind", *EXEC_METRICS):
         frame[col] = frame[col].astype(float)
     return frame
 
@@ -129,6 +145,7 @@ def load_records_frame(runs: Path | str | Sequence[Path | str]) -> pd.DataFrame:
     roots = [runs] if isinstance(runs, Path | str) else list(runs)
     records: list[EpisodeRecord] = []
     executed: dict[str, bool] = {}
+    scoring: dict[str, ScoringConfig] = {}
     for root in roots:
         paths = RunPaths(Path(root))
         records.extend(latest_records(paths.records))
@@ -137,4 +154,5 @@ def load_records_frame(runs: Path | str | Sequence[Path | str]) -> pd.DataFrame:
         except NotARunError:
             continue
         executed[manifest.run_id] = manifest.config.execute
-    return records_frame(records, executed)
+        scoring[manifest.run_id] = manifest.config.scoring
+    return records_frame(records, executed, scoring)

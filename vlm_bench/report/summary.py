@@ -30,8 +30,9 @@ OVERALL = "overall"
 """``suite`` value of overall rows."""
 BOTH = "both"
 """``instruction`` value of rows that average the two instruction variants."""
-VALUES = (*METRICS, "Succ")
-"""Value columns of the summary, in the paper's order."""
+VALUES = (*METRICS, "Succ", "Loc_over_blind")
+"""Value columns of the summary: the paper's, then S_loc above the ``blind`` floor on the same
+episodes (:mod:`vlm_bench.report.floors`)."""
 EXEC_VALUES = EXEC_METRICS
 """Value columns added when the records include executing runs (see the module docstring)."""
 TABLE_EXEC_VALUES = ("exec_success", "S_task")

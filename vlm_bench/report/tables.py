@@ -30,6 +30,7 @@ HEADERS = {
     "S_skill": "Skill",
     "S_total": "Tot",
     "Succ": "Succ",
+    "Loc_over_blind": "ΔLoc",
     "exec_success": "Exec",
     "S_task": "Task",
 }
@@ -44,7 +45,8 @@ SUITE_SHORT = {
 """Short suite names for column headers."""
 
 LEGEND = (
-    "Succ in %; Overall = unweighted mean of the suite columns; `both` = mean of explicit "
+    "Succ in %; ΔLoc = Loc minus the blind floor's Loc on the same episodes (what the images "
+    "add); Overall = unweighted mean of the suite columns; `both` = mean of explicit "
     "and implicit; episodes whose backend failed are excluded (see summary.csv n_error)."
 )
 EXEC_LEGEND = (

@@ -1,0 +1,87 @@
+"""The built-in floor and ceiling planners: ``rules`` (perfect perception through the scene
+text) scores 100 everywhere; ``blind`` (perfect language, no vision) stays below 30 on S_loc and
+never learns from the episode it plans."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import vlm_bench
+from vlm_bench.backends import blind_planner
+from vlm_bench.backends.blind_planner import blind_plan, guess_moves, segment_table, segments
+from vlm_bench.episodes import make_episode
+from vlm_bench.errors import ConfigError
+from vlm_bench.types import Direction
+
+D = Direction
+
+
+@pytest.fixture(scope="module")
+def rules_run(tmp_path_factory: pytest.TempPathFactory) -> vlm_bench.RunResult:
+    out = tmp_path_factory.mktemp("rules") / "run"
+    return vlm_bench.run(
+        model="rules",
+        scene_as_text=True,
+        images=False,
+        execute=False,
+        seeds=tuple(range(10)),
+        out=out,
+        snapshot_cache=False,
+    )
+
+
+def test_rules_scores_100_on_every_metric_of_every_episode(rules_run: vlm_bench.RunResult) -> None:
+    assert len(rules_run.records) == 60 * 2 * 10
+    for record in rules_run.records:
+        scores = record.scores
+        assert record.ok and scores is not None, record.key
+        assert scores.succ and scores.s_total == 100.0, (record.key, record.raw_output)
+
+
+def test_rules_needs_the_scene_text_and_writes_nothing_without_it(tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="--scene-as-text"):
+        vlm_bench.run(model="rules", images=False, execute=False, out=tmp_path / "run")
+    assert not (tmp_path / "run").exists()
+
+
+def test_blind_stays_below_30_on_s_loc_with_perfect_language(tmp_path: Path) -> None:
+    result = vlm_bench.run(
+        model="blind",
+        images=False,
+        execute=False,
+        seeds=tuple(range(10)),
+        instructions=("explicit",),
+        out=tmp_path / "run",
+        snapshot_cache=False,
+    )
+    scores = [r.scores for r in result.records if r.scores is not None]
+    assert len(scores) == 600
+    s_loc = sum(s.s_loc for s in scores) / len(scores)
+    assert 15.0 < s_loc < 30.0, s_loc
+    assert all(s.s_obj == 100.0 and s.s_skill == 100.0 for s in scores)
+
+
+def test_blind_guesses_from_the_majority_of_other_seeds() -> None:
+    assert guess_moves([(D.LEFT,), (D.LEFT,), (D.FRONT,)]) == [D.LEFT]
+    assert guess_moves([(D.UP, D.LEFT), (D.UP, D.BACK), ()]) == [D.UP, D.LEFT]  # tie: first
+    assert guess_moves([(D.RIGHT, D.DOWN), (D.RIGHT, D.DOWN), ()]) == [D.RIGHT, D.DOWN]
+    assert guess_moves([(), (), (D.FRONT,)]) == []
+    assert guess_moves([]) == []
+    assert segments([]) == []
+
+
+def test_blind_never_reads_its_own_seed(monkeypatch: pytest.MonkeyPatch) -> None:
+    ep = make_episode("drawer_interaction", 3)
+    before = blind_plan(ep.task_id, ep.seed, ep.arm_steps())
+    table = {key: dict(seeds) for key, seeds in segment_table().items()}
+    for k in range(len(ep.arm_steps())):
+        table[("drawer_interaction", k)][3] = (D.BACKRIGHT, D.DOWN)  # the episode's own seed
+    monkeypatch.setattr(blind_planner, "segment_table", lambda: table)
+    assert blind_plan(ep.task_id, ep.seed, ep.arm_steps()) == before
+    for seed in table[("drawer_interaction", 0)]:  # while the other seeds do count
+        if seed != 3:
+            table[("drawer_interaction", 0)][seed] = (D.BACKRIGHT,)
+    after = blind_plan(ep.task_id, ep.seed, ep.arm_steps())
+    assert after[0].direction == D.BACKRIGHT and after != before
