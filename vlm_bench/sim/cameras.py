@@ -1,8 +1,17 @@
-"""Fixed third-person cameras (``overhead``, ``side``) framed on each episode's work area."""
+"""Fixed third-person cameras (``overhead``, ``side``) framed tightly on each episode's work area.
+
+Each camera has a fixed viewing direction and is placed as close as it can be while it sees
+every framing point grown by its margin (:func:`~vlm_bench.sim.framing.closest_fit`). The
+overhead camera looks down, tilted a little towards +y, so image up is world +y and image right
+world +x. The side camera looks at the area from above at :data:`SIDE_ELEVATION_DEG`, from the
+azimuth nearest its preferred one at which the robot hides the fewest objects. A camera that
+would stand outside the room gets a wider field of view, which brings it closer.
+"""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -10,108 +19,220 @@ from numpy.typing import NDArray
 
 from vlm_bench.catalog.world import environment, object_kind
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE
-from vlm_bench.types.episode import Episode
+from vlm_bench.sim.framing import (
+    closest_fit,
+    image_span,
+    occluded,
+    segment_hits_boxes,
+    view_xyaxes,
+)
+from vlm_bench.sim.uav import HEADING_TAIL_X, HEADING_TIP_X, HEADING_Z
+from vlm_bench.types.episode import Episode, EpisodeObject
 
-OVERHEAD_FOVY = 60.0
-SIDE_FOVY = 55.0
+OVERHEAD_FOVY = 30.0
+OVERHEAD_TILT_DEG = 11.3  # from straight down towards +y, so object heights read
+SIDE_FOVY = 40.0
 SIDE_ELEVATION_DEG = 28.0
+SIDE_AZIMUTH_STEP_DEG = 20.0  # candidate side azimuths: preferred one ± k steps
+SIDE_MIN_ARROW = 0.045  # least length of the UAV's heading arrow in the side view (image sides)
+MAX_FOVY = 75.0  # widest field of view used to bring a camera inside the room
+FOVY_STEP = 5.0
+WALL_CLEARANCE = 0.3  # least distance from a camera to the room's walls (m)
+UAV_MARGIN = 0.6  # rotor tips reach 0.5 m from the UAV's centre, the heading arrow 0.52 m
+OBJECT_MARGIN = 0.05  # added to half an object's largest side (m)
+PART_MARGIN = 0.1  # around a drawer handle or knob (m)
+# The robot as spheres (offset below the UAV centre, radius; m): airframe, then the hanging arm.
+ROBOT_SPHERES = ((0.0, 0.5), (0.35, 0.2), (0.65, 0.2))
+
+Vec = NDArray[np.float64]
 
 
-def look_at_xyaxes(pos: NDArray[np.float64], target: NDArray[np.float64]) -> list[float]:
-    """MuJoCo ``xyaxes`` for a camera at ``pos`` looking at ``target`` with world z up."""
-    forward = target - pos
-    forward /= np.linalg.norm(forward)
-    up_hint = np.array([0.0, 0.0, 1.0])
-    if abs(float(forward @ up_hint)) > 0.999:  # looking straight down: pick +y as image up
-        up_hint = np.array([0.0, 1.0, 0.0])
-    right = np.cross(forward, up_hint)
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    return [*right.tolist(), *up.tolist()]
-
-
-def framing_points(episode: Episode) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Points the third-person views must show, with a margin radius each (m).
-
-    The plan's objects and parts, every movable object, and the UAV start (its rotors reach
-    0.55 m from its centre).
-    """
-    referenced = {s.object for s in episode.arm_steps()} | {
+def plan_references(episode: Episode) -> set[str]:
+    """Ids of the objects and parts the GT plan's ARM steps name (as object or target)."""
+    return {s.object for s in episode.arm_steps()} | {
         s.target for s in episode.arm_steps() if s.target
     }
-    points, margins = [np.array(episode.uav_start.pos)], [0.6]
+
+
+def is_framed_object(obj: EpisodeObject, referenced: set[str]) -> bool:
+    """Whether the views must show ``obj`` whole: the plan names it, or it is movable and not a
+    support (furniture and supports are framed only when the plan names them or their part)."""
+    kind = object_kind(obj.kind)
+    return obj.id in referenced or (kind.movable and obj.role != "support")
+
+
+def task_objects(episode: Episode) -> tuple[str, ...]:
+    """Ids of the episode's task objects, in scene order: the framed objects
+    (:func:`is_framed_object`) and the owners of the parts the plan names."""
+    referenced = plan_references(episode)
+    owners = {p.parent for p in episode.parts if p.id in referenced}
+    return tuple(o.id for o in episode.objects if o.id in owners or is_framed_object(o, referenced))
+
+
+def framing_points(episode: Episode) -> tuple[Vec, Vec]:
+    """Points the third-person views must show, with a margin radius each (m).
+
+    The UAV start first, then the plan's objects and parts and every movable object.
+    """
+    referenced = plan_references(episode)
+    points, margins = [np.array(episode.uav_start.pos)], [UAV_MARGIN]
     for obj in episode.objects:
         kind = object_kind(obj.kind)
-        if obj.id in referenced or (kind.movable and obj.role != "support"):
+        if is_framed_object(obj, referenced):
             points.append(np.array(obj.pos) + np.array([0.0, 0.0, kind.size[2] / 2]))
-            margins.append(0.5 * max(kind.size[:2]) + 0.1)
+            margins.append(0.5 * max(kind.size[:2]) + OBJECT_MARGIN)
     for part in episode.parts:
         if part.id in referenced:
             points.append(np.array(part.handle))
-            margins.append(0.25)
+            margins.append(PART_MARGIN)
     return np.stack(points), np.array(margins)
 
 
-def fits(
-    pos: NDArray[np.float64],
-    target: NDArray[np.float64],
-    fovy: float,
-    points: NDArray[np.float64],
-    margins: NDArray[np.float64],
-    fill: float = 0.92,
-) -> bool:
-    """True when every point, grown by its margin, projects inside ``fill`` of a square frame."""
-    axes = np.array(look_at_xyaxes(pos, target)).reshape(2, 3)
-    forward = np.cross(axes[0], axes[1])
-    vec = points - pos
-    depth = vec @ -forward
-    if (depth <= margins).any():
-        return False
-    limit = math.tan(math.radians(fovy / 2)) * fill
-    return bool(((np.abs(vec @ axes.T) + margins[:, None]) / depth[:, None] <= limit).all())
+def place_camera(
+    forward: Vec, fovy: float, points: Vec, margins: Vec, half_room: float
+) -> tuple[Vec, float]:
+    """The closest fit at ``fovy``, widened in steps up to :data:`MAX_FOVY` while the camera
+    would stand outside the room (``|x|, |y| <= half_room``); clipped into it at the widest."""
+    while True:
+        pos = closest_fit(forward, fovy, points, margins)
+        if np.abs(pos[:2]).max() <= half_room or fovy >= MAX_FOVY:
+            break
+        fovy = min(fovy + FOVY_STEP, MAX_FOVY)
+    pos[:2] = np.clip(pos[:2], -half_room, half_room)
+    return pos, fovy
 
 
-def _side_azimuth(episode: Episode, center: NDArray[np.float64]) -> float:
-    """Look at articulated fixtures from their front-side; else from the -y side of the area."""
+def overhead_forward() -> Vec:
+    """Viewing direction of the overhead camera: down, tilted towards +y."""
+    tilt = math.radians(OVERHEAD_TILT_DEG)
+    return np.array([0.0, math.sin(tilt), -math.cos(tilt)])
+
+
+def side_forward(azimuth_deg: float) -> Vec:
+    """Viewing direction of a side camera standing at ``azimuth_deg`` from the area."""
+    az, elev = math.radians(azimuth_deg), math.radians(SIDE_ELEVATION_DEG)
+    return -np.array([math.cos(az) * math.cos(elev), math.sin(az) * math.cos(elev), math.sin(elev)])
+
+
+def preferred_side_azimuth(episode: Episode) -> float:
+    """Articulated fixtures are seen from their front-side; else the area from its -y side."""
     for obj in episode.objects:
         if object_kind(obj.kind).parts:
             return obj.yaw_deg + 50.0
     return -90.0 + 20.0
 
 
+def robot_spheres(episode: Episode) -> tuple[Vec, Vec]:
+    """Centres and radii of spheres covering the UAV and its hanging arm at the start."""
+    start = np.array(episode.uav_start.pos)
+    centres = np.stack([start - np.array([0.0, 0.0, below]) for below, _ in ROBOT_SPHERES])
+    return centres, np.array([radius for _, radius in ROBOT_SPHERES])
+
+
+def heading_arrow_ends(episode: Episode) -> tuple[Vec, Vec]:
+    """World positions of the tail and tip of the UAV's heading arrow at the start."""
+    start, yaw = np.array(episode.uav_start.pos), math.radians(episode.uav_start.yaw_deg)
+    front = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+    lift = np.array([0.0, 0.0, HEADING_Z])
+    return start + HEADING_TAIL_X * front + lift, start + HEADING_TIP_X * front + lift
+
+
+@dataclass(frozen=True)
+class SightLines:
+    """What may hide the framed objects from a camera: the points each framed object is sighted
+    at (its centre and its top), the bounding boxes of all objects, and which box may hide which
+    sight point (not the object's own box, its supports' down to the floor, nor those resting on
+    it)."""
+
+    sights: Vec  # (2K, 3)
+    centres: Vec  # (M, 3)
+    halves: Vec  # (M, 3)
+    yaws: Vec  # (M,) deg
+    may_hide: NDArray[np.bool_]  # (2K, M)
+
+
+def sight_lines(episode: Episode) -> SightLines:
+    """The :class:`SightLines` of the episode's framed objects (:func:`is_framed_object`)."""
+    on = {o.id: o.on for o in episode.objects}
+
+    def below(oid: str) -> set[str]:
+        found: set[str] = set()
+        while on.get(oid, "floor") != "floor" and on[oid] not in found:
+            oid = on[oid]
+            found.add(oid)
+        return found
+
+    sizes = np.array([object_kind(o.kind).size for o in episode.objects], dtype=np.float64)
+    centres = np.array([o.pos for o in episode.objects], dtype=np.float64)
+    centres[:, 2] += sizes[:, 2] / 2
+    referenced = plan_references(episode)
+    sights, may_hide = [], []
+    for k, obj in enumerate(episode.objects):
+        if not is_framed_object(obj, referenced):
+            continue
+        row = [
+            other.id != obj.id and other.id not in below(obj.id) and obj.id not in below(other.id)
+            for other in episode.objects
+        ]
+        for lift in (0.0, sizes[k, 2] / 2):
+            sights.append(centres[k] + np.array([0.0, 0.0, lift]))
+            may_hide.append(row)
+    n = len(episode.objects)
+    return SightLines(
+        sights=np.array(sights, dtype=np.float64).reshape(-1, 3),
+        centres=centres,
+        halves=sizes / 2,
+        yaws=np.array([o.yaw_deg for o in episode.objects], dtype=np.float64),
+        may_hide=np.array(may_hide, dtype=bool).reshape(-1, n),
+    )
+
+
+def hidden_by_objects(lines: SightLines, pos: Vec) -> float:
+    """How many framed objects other objects may hide from a camera at ``pos``: each sight line
+    of :func:`sight_lines` that passes through a box that may hide it counts half."""
+    hits = segment_hits_boxes(pos, lines.sights, lines.centres, lines.halves, lines.yaws)
+    return 0.5 * float((hits & lines.may_hide).sum())
+
+
+def side_camera(
+    episode: Episode, points: Vec, margins: Vec, half_room: float
+) -> tuple[Vec, Vec, float]:
+    """Forward direction, position and fovy of the side camera.
+
+    Of the azimuths preferred ± k steps round the circle, takes the one at which the robot
+    (:func:`~vlm_bench.sim.framing.occluded`) and the other objects (:func:`hidden_by_objects`)
+    may hide the least of the framed objects, then one that shows the heading arrow at least
+    :data:`SIDE_MIN_ARROW` long (the arrow shortens when the UAV faces the camera or away from
+    it), then the one nearest the preferred azimuth.
+    """
+    preferred = preferred_side_azimuth(episode)
+    blockers, blocker_radii = robot_spheres(episode)
+    lines = sight_lines(episode)
+    tail, tip = heading_arrow_ends(episode)
+    steps = round(180.0 / SIDE_AZIMUTH_STEP_DEG)
+    offsets = [0, *(s * sign for s in range(1, steps) for sign in (1, -1)), steps]
+    options = []
+    for k in offsets:
+        forward = side_forward(preferred + k * SIDE_AZIMUTH_STEP_DEG)
+        pos, fovy = place_camera(forward, SIDE_FOVY, points, margins, half_room)
+        hidden = float(occluded(pos, points[1:], margins[1:], blockers, blocker_radii).sum())
+        hidden += hidden_by_objects(lines, pos)
+        short = image_span(pos, forward, fovy, tail, tip) < SIDE_MIN_ARROW
+        options.append(((hidden, short), forward, pos, fovy))
+    _, forward, pos, fovy = min(options, key=lambda option: option[0])
+    return forward, pos, fovy
+
+
 def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
     """Add ``overhead`` and ``side`` cameras framing the episode's work area."""
     points, margins = framing_points(episode)
-    lo, hi = points.min(axis=0), points.max(axis=0)
-    center = (lo + hi) / 2
-    center[2] = float(np.median(points[1:, 2])) if len(points) > 1 else 0.75
-    half_room = environment(episode.environment).room_half_size - 0.3
-    # Overhead: high above the area, tilted a little so heights read; raised until all fits.
-    height = 1.5
-    while True:
-        pos = np.array([center[0], center[1] - 0.2 * height, center[2] + height])
-        if height > 12 or fits(pos, center, OVERHEAD_FOVY, points, margins):
-            break
-        height += 0.1
+    half_room = environment(episode.environment).room_half_size - WALL_CLEARANCE
+    forward = overhead_forward()
+    pos, fovy = place_camera(forward, OVERHEAD_FOVY, points, margins, half_room)
     spec.worldbody.add_camera(
-        name=CAM_OVERHEAD,
-        pos=pos.tolist(),
-        xyaxes=look_at_xyaxes(pos, center),
-        fovy=OVERHEAD_FOVY,
+        name=CAM_OVERHEAD, pos=pos.tolist(), xyaxes=view_xyaxes(forward), fovy=fovy
     )
-    # Side: from the side at a moderate elevation, backed off until all fits, inside the room.
-    az = math.radians(_side_azimuth(episode, center))
-    elev = math.radians(SIDE_ELEVATION_DEG)
-    offset = np.array(
-        [math.cos(az) * math.cos(elev), math.sin(az) * math.cos(elev), math.sin(elev)]
-    )
-    dist = 1.5
-    while True:
-        pos = center + dist * offset
-        if dist > 12 or fits(pos, center, SIDE_FOVY, points, margins):
-            break
-        dist += 0.1
-    pos[:2] = np.clip(pos[:2], -half_room, half_room)
+    forward, pos, fovy = side_camera(episode, points, margins, half_room)
     spec.worldbody.add_camera(
-        name=CAM_SIDE, pos=pos.tolist(), xyaxes=look_at_xyaxes(pos, center), fovy=SIDE_FOVY
+        name=CAM_SIDE, pos=pos.tolist(), xyaxes=view_xyaxes(forward), fovy=fovy
     )

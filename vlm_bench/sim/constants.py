@@ -12,6 +12,10 @@ UAV_BODY = "uav"
 UAV_FREEJOINT = "uav_free"
 UAV_SITE = "uav_center"
 ROTOR_GEOM_PREFIX = "uav_rotor"
+# Orange arrow on top of the UAV pointing to its front (body +x); visual only.
+UAV_HEADING_SHAFT = "uav_heading_shaft"
+UAV_HEADING_HEAD = "uav_heading_head"
+UAV_HEADING_GEOMS = (UAV_HEADING_SHAFT, UAV_HEADING_HEAD)
 
 # Panda arm (mounted under the UAV, base pointing down).
 ARM_PREFIX = "panda_"

@@ -26,6 +26,7 @@ from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.sim.labels import Font, ui_font
 
 RGBImage = NDArray[np.uint8]
+GeomIdImage = NDArray[np.int32]
 DEFAULT_SHADOWS = True
 _MAX_GEOM = 10_000
 
@@ -80,6 +81,50 @@ class SnapshotRenderer:
         buf = self._buffers.setdefault(size, np.empty((size, size, 3), dtype=np.uint8))
         mujoco.mjr_readPixels(buf, None, rect, mjr)
         return np.flipud(buf).copy()
+
+    def render_segmentation(
+        self, model: mujoco.MjModel, data: mujoco.MjData, camera: str, size: int
+    ) -> GeomIdImage:
+        """Render one square view as geom ids (which geom each pixel shows).
+
+        Args:
+            model: Compiled model; its offscreen buffer must be at least ``size`` square.
+            data: State to render (``mj_forward`` must have run so poses are current).
+            camera: Name of a camera in the model.
+            size: Image side in pixels.
+
+        Returns:
+            A ``(size, size)`` int32 array of geom ids, -1 where no geom is seen (sky, or
+            decoration that is not a geom); row 0 at the top. Transparent geoms count as opaque.
+        """
+        scene, mjr = self._bind(model, size)
+        cam = mujoco.MjvCamera()
+        cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
+        cam.fixedcamid = _camera_id(model, camera)
+        mujoco.mjv_updateScene(
+            model, data, self._option, None, cam, mujoco.mjtCatBit.mjCAT_ALL, scene
+        )
+        scene.flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = True
+        scene.flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = True
+        rect = mujoco.MjrRect(0, 0, size, size)
+        try:
+            mujoco.mjr_render(rect, scene, mjr)
+        finally:
+            scene.flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = False
+            scene.flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = False
+        buf = np.empty((size, size, 3), dtype=np.uint8)
+        mujoco.mjr_readPixels(buf, None, rect, mjr)
+        # IDCOLOR writes each scene geom's segid + 1 into the RGB bytes, little-endian; 0 is
+        # background (as in mujoco.Renderer).
+        seg = buf.astype(np.int32) @ np.array([1, 1 << 8, 1 << 16], dtype=np.int32)
+        lookup = np.full(scene.ngeom + 1, -1, dtype=np.int32)
+        for k in range(scene.ngeom):
+            geom = scene.geoms[k]
+            if geom.segid >= 0 and geom.objtype == mujoco.mjtObj.mjOBJ_GEOM:
+                lookup[geom.segid + 1] = geom.objid
+        seg[seg > scene.ngeom] = 0
+        ids: GeomIdImage = np.flipud(lookup[seg]).copy()
+        return ids
 
     def render_views(
         self, model: mujoco.MjModel, data: mujoco.MjData, cameras: Sequence[str], size: int

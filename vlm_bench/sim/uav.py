@@ -2,9 +2,11 @@
 
 About 1 m across from rotor tip to rotor tip: four 0.33 m arms at ±45°/±135° carry motor pods and
 0.17 m rotor discs. The rotor discs collide (contype/conaffinity 1), so the airframe meets
-furniture physically; the blades drawn on them are visual only. Body +x is the front (a green
-light), +z is up. The ``uav`` camera sits at the front of the chassis, looking forward and
-35° down. The body carries an explicit inertial (mass :data:`UAV_MASS`), not one from geoms.
+furniture physically; the blades drawn on them are visual only. Body +x is the front, marked by
+an orange arrow lying on top of the chassis (and two green lights; a red one at the back); +z is
+up. The ``uav`` camera sits at the front of the chassis, looking forward and 35° down. The body
+carries an explicit inertial (mass :data:`UAV_MASS`), not one from geoms, so visual geoms
+change nothing physical.
 """
 
 from __future__ import annotations
@@ -32,6 +34,22 @@ SHELL = "uav_shell"
 METAL = "uav_metal"
 PROP = "uav_prop"
 PROP_DISC = "uav_prop_disc"
+HEADING = "uav_heading"
+
+# Heading arrow: a flat orange arrow lying on top of the chassis along body +x, self-lit so it
+# reads under any lighting. Body-frame coordinates (m); it stays above the `uav` camera's view.
+HEADING_RGBA = (1.0, 0.45, 0.0, 1.0)  # orange, as rendered
+# MuJoCo shades a material as rgba * (emission + light), clipped at 1: a dim base colour with a
+# strong emission keeps the hue from lit top faces (light up to ~1.05) to shadows (~0.1).
+HEADING_EMISSION = 1.9
+HEADING_MAX_LIGHT = 1.05
+HEADING_Z = 0.112  # mid-plane, just above the top plate
+HEADING_HALF_THICKNESS = 0.006
+HEADING_TAIL_X = -0.04  # just ahead of the mast
+HEADING_NECK_X = 0.30  # where the shaft meets the head
+HEADING_TIP_X = 0.52  # a little beyond the rotor tips
+HEADING_SHAFT_HALF_WIDTH = 0.04
+HEADING_HEAD_HALF_WIDTH = 0.13
 
 
 def yaw_quat(yaw_deg: float) -> list[float]:
@@ -46,6 +64,10 @@ def _ensure_materials(spec: mujoco.MjSpec) -> None:
     solid_material(spec, METAL, (0.55, 0.56, 0.58, 1.0), specular=0.8, shininess=0.8)
     solid_material(spec, PROP, (0.03, 0.03, 0.03, 1.0), specular=0.2, shininess=0.3)
     solid_material(spec, PROP_DISC, (0.05, 0.05, 0.05, 0.28), specular=0.1, shininess=0.1)
+    gain = 1.0 / (HEADING_EMISSION + HEADING_MAX_LIGHT)
+    base = (HEADING_RGBA[0] * gain, HEADING_RGBA[1] * gain, HEADING_RGBA[2] * gain, 1.0)
+    solid_material(spec, HEADING, base, specular=0.0, shininess=0.0)
+    spec.material(HEADING).emission = HEADING_EMISSION
 
 
 def _visual(body: mujoco.MjsBody, **kwargs: object) -> None:
@@ -95,6 +117,31 @@ def _add_chassis(body: mujoco.MjsBody) -> None:
     body.add_geom(type=box, pos=[0.15, 0, -0.005], size=[0.02, 0.025, 0.02], material=FRAME)
     body.add_geom(
         type=cyl, fromto=[0, 0, -0.035, 0, 0, MOUNT_BOTTOM], size=[0.05, 0, 0], material=FRAME
+    )
+
+
+def _add_heading_arrow(spec: mujoco.MjSpec, body: mujoco.MjsBody) -> None:
+    """Shaft (a flat box) and head (a flat triangular prism) pointing along body +x."""
+    z, half = HEADING_Z, HEADING_HALF_THICKNESS
+    _visual(
+        body,
+        name=c.UAV_HEADING_SHAFT,
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        pos=[(HEADING_TAIL_X + HEADING_NECK_X) / 2, 0.0, z],
+        size=[(HEADING_NECK_X - HEADING_TAIL_X) / 2, HEADING_SHAFT_HALF_WIDTH, half],
+        material=HEADING,
+    )
+    neck, tip, width = HEADING_NECK_X, HEADING_TIP_X, HEADING_HEAD_HALF_WIDTH
+    corners = [(neck, width), (neck, -width), (tip, 0.0)]
+    vertices = [v for x, y in corners for dz in (-half, half) for v in (x, y, z + dz)]
+    if not any(m.name == c.UAV_HEADING_HEAD for m in spec.meshes):
+        spec.add_mesh(name=c.UAV_HEADING_HEAD, uservert=vertices)
+    _visual(
+        body,
+        name=c.UAV_HEADING_HEAD,
+        type=mujoco.mjtGeom.mjGEOM_MESH,
+        meshname=c.UAV_HEADING_HEAD,
+        material=HEADING,
     )
 
 
@@ -151,6 +198,7 @@ def add_uav(spec: mujoco.MjSpec, start: UavPose) -> mujoco.MjsBody:
     body.inertia = list(UAV_INERTIA)
     _add_chassis(body)
     _add_rotor_arms(body)
+    _add_heading_arrow(spec, body)
     body.add_site(name=c.UAV_SITE, pos=[0, 0, 0], size=[0.01, 0, 0], rgba=[1, 1, 0, 0])
     pitch = math.radians(CAMERA_PITCH_DEG)  # image right = body -y, image up tilted forward
     camera = body.add_camera(name=c.CAM_UAV, pos=list(CAMERA_POS), fovy=CAMERA_FOVY)
