@@ -12,9 +12,9 @@ from vlm_bench.catalog.ground_truth import load_materialised, materialised_path
 from vlm_bench.catalog.tasks import all_tasks, get_task
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes import make_episode
-from vlm_bench.episodes.geometry import body_bearing_deg, move_stop, quantise_bearing
 from vlm_bench.episodes.materialise import materialise, to_text
 from vlm_bench.errors import ConfigError, UnknownNameError
+from vlm_bench.rules import body_bearing_deg, move_stop, quantise_bearing
 from vlm_bench.types import ArmStep, Direction, UavStep
 from vlm_bench.types.geometry import APPROACH
 

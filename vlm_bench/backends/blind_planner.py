@@ -12,17 +12,15 @@ to all tasks' segment k. A VLM must beat its S_loc to show that it uses the imag
 
 from __future__ import annotations
 
-import json
-import time
 from collections import Counter, defaultdict
 from collections.abc import Sequence
 from functools import cache
 
-from vlm_bench.backends.base import Backend, BackendArgs
+from vlm_bench.backends.builtin import PlannerBackend
 from vlm_bench.catalog.ground_truth import load_materialised
 from vlm_bench.catalog.tasks import all_tasks
-from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
-from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
+from vlm_bench.types.generation import GenerationRequest
+from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 Moves = tuple[Direction, ...]
 SegmentTable = dict[tuple[str, int], dict[int, Moves]]
@@ -92,33 +90,14 @@ def blind_plan(
     return plan
 
 
-class BlindBackend(Backend):
+class BlindBackend(PlannerBackend):
     """GT ARM steps with the UAV moves guessed from other seeds (see module doc)."""
 
     name = "blind"
 
-    def __init__(self, model: str = "", args: BackendArgs | None = None) -> None:
-        self.args = args or BackendArgs()
-
-    def generate(
-        self, requests: Sequence[GenerationRequest], config: GenerationConfig
-    ) -> list[GenerationResult]:
-        """One blind plan per request, from ``meta.task_id``, ``meta.seed``, ``meta.arm_steps``."""
-        out: list[GenerationResult] = []
-        for req in requests:
-            start = time.perf_counter()
-            meta = req.meta
-            if meta is None or meta.arm_steps is None or not meta.task_id:
-                error = "blind: request has no meta.task_id and meta.arm_steps"
-                out.append(GenerationResult(id=req.id, error=error))
-                continue
-            plan = blind_plan(meta.task_id, meta.seed, meta.arm_steps)
-            out.append(
-                GenerationResult(
-                    id=req.id,
-                    text=json.dumps(plan_to_json(plan)),
-                    latency_s=time.perf_counter() - start,
-                    finish_reason="stop",
-                )
-            )
-        return out
+    def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
+        """The blind plan from ``meta.task_id``, ``meta.seed`` and ``meta.arm_steps``."""
+        meta = request.meta
+        if meta is None or meta.arm_steps is None or not meta.task_id:
+            return "blind: request has no meta.task_id and meta.arm_steps"
+        return blind_plan(meta.task_id, meta.seed, meta.arm_steps)

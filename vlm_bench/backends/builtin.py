@@ -10,6 +10,7 @@ import hashlib
 import json
 import random
 import time
+from abc import abstractmethod
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -37,26 +38,42 @@ def _answer(
     )
 
 
-class OracleBackend(Backend):
-    """Answers each request with its episode's GT plan (the ceiling: every metric is 100)."""
-
-    name = "oracle"
+class PlannerBackend(Backend):
+    """A built-in that plans from what the runner puts in a request: :meth:`plan` gives the
+    plan, or the reason it cannot (recorded as a backend error)."""
 
     def __init__(self, model: str = "", args: BackendArgs | None = None) -> None:
         self.args = args or BackendArgs()
 
+    @abstractmethod
+    def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
+        """The request's plan, or an error message."""
+
     def generate(
         self, requests: Sequence[GenerationRequest], config: GenerationConfig
     ) -> list[GenerationResult]:
-        """Return ``meta.gt_plan`` in the paper's JSON format."""
+        """One plan per request, in the paper's JSON format."""
         out: list[GenerationResult] = []
         for req in requests:
             start = time.perf_counter()
-            if req.meta is None or req.meta.gt_plan is None:
-                out.append(_answer(req, start, error="oracle: request has no meta.gt_plan"))
-                continue
-            out.append(_answer(req, start, json.dumps(plan_to_json(req.meta.gt_plan))))
+            plan = self.plan(req)
+            if isinstance(plan, str):
+                out.append(_answer(req, start, error=plan))
+            else:
+                out.append(_answer(req, start, json.dumps(plan_to_json(list(plan)))))
         return out
+
+
+class OracleBackend(PlannerBackend):
+    """Answers each request with its episode's GT plan (the ceiling: every metric is 100)."""
+
+    name = "oracle"
+
+    def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
+        """``meta.gt_plan``."""
+        if request.meta is None or request.meta.gt_plan is None:
+            return "oracle: request has no meta.gt_plan"
+        return request.meta.gt_plan
 
 
 class RandomArgs(BackendArgs):
@@ -73,16 +90,16 @@ class RandomArgs(BackendArgs):
         return self
 
 
-class RandomBackend(Backend):
+class RandomBackend(PlannerBackend):
     """Seeded random *valid* plans over the scene's objects: the floor baseline."""
 
     name = "random"
     Args = RandomArgs
 
     def __init__(self, model: str = "", args: RandomArgs | None = None) -> None:
-        self.args = args or RandomArgs()
+        self.args: RandomArgs = args or RandomArgs()
 
-    def plan(self, request_id: str, object_ids: Sequence[str]) -> list[UavStep | ArmStep]:
+    def random_plan(self, request_id: str, object_ids: Sequence[str]) -> list[UavStep | ArmStep]:
         """The random plan of one request: same seed and id, same plan."""
         digest = hashlib.sha256(f"{self.args.seed}|{request_id}".encode()).digest()
         rng = random.Random(int.from_bytes(digest[:8], "big"))
@@ -98,19 +115,11 @@ class RandomBackend(Backend):
             steps.append(ArmStep(object=rng.choice(object_ids), skill=skill.name, target=target))
         return steps
 
-    def generate(
-        self, requests: Sequence[GenerationRequest], config: GenerationConfig
-    ) -> list[GenerationResult]:
-        """One random plan per request, over ``meta.object_ids``."""
-        out: list[GenerationResult] = []
-        for req in requests:
-            start = time.perf_counter()
-            if req.meta is None or not req.meta.object_ids:
-                out.append(_answer(req, start, error="random: request has no meta.object_ids"))
-                continue
-            plan = self.plan(req.id, req.meta.object_ids)
-            out.append(_answer(req, start, json.dumps(plan_to_json(plan))))
-        return out
+    def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
+        """A random plan over ``meta.object_ids``."""
+        if request.meta is None or not request.meta.object_ids:
+            return "random: request has no meta.object_ids"
+        return self.random_plan(request.id, request.meta.object_ids)
 
 
 class MockArgs(BackendArgs):

@@ -12,15 +12,13 @@ module to import ``vlm_bench.episodes``, ``vlm_bench.sim`` or ``vlm_bench.runner
 
 from __future__ import annotations
 
-import json
-import time
 from collections.abc import Sequence
 
-from vlm_bench.backends.base import Backend, BackendArgs
+from vlm_bench.backends.builtin import PlannerBackend
 from vlm_bench.errors import ConfigError
 from vlm_bench.rules import parse_scene, plan_from_scene
-from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
-from vlm_bench.types.plan import plan_to_json
+from vlm_bench.types.generation import GenerationRequest
+from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.prompt import TextPart
 
 NO_SCENE = "backend 'rules' plans from the scene as text; run it with --scene-as-text"
@@ -31,39 +29,20 @@ def prompt_text(request: GenerationRequest) -> str:
     return "\n".join(p.text for p in request.user if isinstance(p, TextPart))
 
 
-class RulesBackend(Backend):
+class RulesBackend(PlannerBackend):
     """Plans from the prompt's scene text and rules (see module doc)."""
 
     name = "rules"
 
-    def __init__(self, model: str = "", args: BackendArgs | None = None) -> None:
-        self.args = args or BackendArgs()
-
-    def generate(
-        self, requests: Sequence[GenerationRequest], config: GenerationConfig
-    ) -> list[GenerationResult]:
-        """One rules plan per request.
+    def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
+        """The rules' plan for the request's scene text and ``meta.arm_steps``.
 
         Raises:
-            ConfigError: A request has no scene text (the run lacks ``--scene-as-text``).
+            ConfigError: The request has no scene text (the run lacks ``--scene-as-text``).
         """
-        out: list[GenerationResult] = []
-        for req in requests:
-            start = time.perf_counter()
-            entries = parse_scene(prompt_text(req))
-            if not entries:
-                raise ConfigError(NO_SCENE)
-            if req.meta is None or req.meta.arm_steps is None:
-                error = "rules: request has no meta.arm_steps"
-                out.append(GenerationResult(id=req.id, error=error))
-                continue
-            plan = plan_from_scene(entries, req.meta.arm_steps)
-            out.append(
-                GenerationResult(
-                    id=req.id,
-                    text=json.dumps(plan_to_json(plan)),
-                    latency_s=time.perf_counter() - start,
-                    finish_reason="stop",
-                )
-            )
-        return out
+        entries = parse_scene(prompt_text(request))
+        if not entries:
+            raise ConfigError(NO_SCENE)
+        if request.meta is None or request.meta.arm_steps is None:
+            return "rules: request has no meta.arm_steps"
+        return plan_from_scene(entries, request.meta.arm_steps)

@@ -8,27 +8,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from vlm_bench.rules.frame import (
-    SECTOR_DEG,
-    body_bearing_deg,
-    move_stop,
-    quantise_bearing,
-    rotate_xy,
-    wrap_deg,
-)
-
-__all__ = [
-    "SECTOR_DEG",
-    "body_bearing_deg",
-    "move_stop",
-    "point_rect_distance",
-    "quantise_bearing",
-    "rect_corners",
-    "rects_overlap",
-    "rotate_xy",
-    "segment_rect_distance",
-    "wrap_deg",
-]
+from vlm_bench.rules.frame import rotate_xy
 
 
 def rect_corners(center: Sequence[float], size_xy: Sequence[float], yaw_deg: float) -> np.ndarray:

@@ -7,7 +7,8 @@ from collections import Counter
 import numpy as np
 
 from vlm_bench.catalog.world import object_kind
-from vlm_bench.episodes.geometry import rect_corners, rects_overlap, rotate_xy
+from vlm_bench.episodes.geometry import rect_corners, rects_overlap
+from vlm_bench.rules import rotate_xy
 from vlm_bench.types.episode import EpisodeObject, PartRef
 from vlm_bench.types.task import PlacedObject, TaskSpec
 from vlm_bench.types.world import Vec3
