@@ -4,10 +4,23 @@ Choice rules, in order:
 
 1. The whole text is strict JSON: use it (a JSON *string* holding JSON is decoded once).
 2. Otherwise strip reasoning blocks, then try the last code fence that holds JSON, then the
-   whole remaining text. In each, every top-level JSON array/object is a candidate; a candidate
-   holding a plan array (directly or through a wrapper) wins over lone step objects, and among
-   equals the *last* wins (models revise drafts; the final answer comes last). Several lone step
-   objects (JSON lines) are joined into one plan.
+   whole remaining text. In each, the candidates are the strict JSON arrays/objects found
+   anywhere in the text and the repaired bracketed regions that are not strict JSON (see
+   :func:`~vlm_bench.parsing.extract.candidates`). A candidate holding a plan array (directly
+   or through a wrapper) wins over lone step objects. Among plans:
+
+   * one whose region holds a better plan loses to it: one with fewer non-step elements, or
+     as many and more elements (a stray ``[`` in the prose opened this region, and repair
+     swallowed the prose into the plan, or mangled it);
+   * otherwise a plan inside another plan's region loses to it (the outer one, unwrapped);
+   * among the rest the *last* wins (models revise drafts; the final answer comes last).
+
+   Several lone step objects (JSON lines) are joined into one plan, those inside another
+   candidate's region only when there are no others.
+3. ``truncated`` is reported when the plan used comes from a region still open at the end of
+   the text, or when a bracket opened after it is still open at the end (the output was cut
+   after the plan); when there is no plan, when the text ends inside a bracket. A stray ``[``
+   in the prose *before* the plan does not count.
 """
 
 from __future__ import annotations
@@ -82,20 +95,61 @@ class Located:
     """The whole text was strict JSON holding the plan array itself (no repair, no unwrap)."""
 
 
-def _pick(cands: list[Candidate]) -> Located | None:
+def _junk(items: list[Any]) -> int:
+    """How many elements of a plan array are not step objects."""
+    return sum(not (isinstance(x, dict) and _is_step(x)) for x in items)
+
+
+def _best_plan(plans: list[tuple[Unwrapped, Candidate]]) -> tuple[Unwrapped, Candidate]:
+    """The plan candidate to use, by the module's choice rules (linear after a sort)."""
+    order = sorted(range(len(plans)), key=lambda k: (plans[k][1].span.start, -plans[k][1].span.end))
+    parent = [-1] * len(plans)
+    stack: list[int] = []
+    for k in order:  # the innermost plan region holding each one
+        while stack and plans[stack[-1]][1].span.end < plans[k][1].span.end:
+            stack.pop()
+        parent[k] = stack[-1] if stack else -1
+        stack.append(k)
+    # Better: fewer non-step elements, then more elements.
+    score = [(-_junk(u.items or []), len(u.items or [])) for u, _ in plans]
+    inner: list[tuple[int, int] | None] = [None] * len(plans)  # the best plan inside each one
+    for k in reversed(order):
+        p = parent[k]
+        if p >= 0:
+            inner[p] = max(x for x in (inner[p], score[k], inner[k]) if x is not None)
+    kept = [False] * len(plans)
+    below_kept = [False] * len(plans)
+    for k in order:
+        p = parent[k]
+        below_kept[k] = p >= 0 and (kept[p] or below_kept[p])
+        best_inside = inner[k]
+        kept[k] = (best_inside is None or best_inside <= score[k]) and not below_kept[k]
+    return plans[max((k for k in order if kept[k]), key=lambda k: plans[k][1].span.start)]
+
+
+def _truncated(used: list[Candidate], last_open: int | None) -> tuple[ParseCode, ...]:
+    """TRUNCATED when a used region is still open at the end, or one opened after them is."""
+    still_open = not all(c.span.closed for c in used)
+    after = last_open is not None and last_open >= max(c.span.end for c in used)
+    return (ParseCode.TRUNCATED,) if still_open or after else ()
+
+
+def _pick(cands: list[Candidate], last_open: int | None) -> Located | None:
     """The plan among the candidates, by the module's choice rules."""
     seen = [(unwrap(c.value), c) for c in cands]
     plans = [(u, c) for u, c in seen if u.kind == "plan"]
     if plans:
-        u, c = max(enumerate(plans), key=lambda p: (not p[1][1].span.nested, p[0]))[1]
-        return Located(u.items, c.repairs + ((Repair.UNWRAP,) if u.unwrapped else ()))
+        u, c = _best_plan(plans)
+        unwrapped = (Repair.UNWRAP,) if u.unwrapped else ()
+        return Located(u.items, c.repairs + unwrapped, _truncated([c], last_open))
     steps = [(u, c) for u, c in seen if u.kind == "step" and not c.span.nested]
     steps = steps or [(u, c) for u, c in seen if u.kind == "step"]
     if not steps:
         return None
     repairs = dict.fromkeys(r for _, c in steps for r in c.repairs)
     repairs[Repair.JOIN_OBJECTS if len(steps) > 1 else Repair.UNWRAP] = None
-    return Located([u.items[0] for u, _ in steps if u.items], tuple(repairs))
+    items = [u.items[0] for u, _ in steps if u.items]
+    return Located(items, tuple(repairs), _truncated([c for _, c in steps], last_open))
 
 
 def _failure(cands: list[Candidate]) -> ParseCode:
@@ -128,12 +182,12 @@ def locate_plan(text: str, _decoded: bool = False) -> Located:
     if fence is not None:
         attempts.insert(0, (fence, (Repair.STRIP_FENCE,)))
     failure = ParseCode.NO_JSON
-    truncated = False
+    last_open: int | None = None
     for chunk, fenced in attempts:
-        cands, truncated = candidates(chunk)
-        found = _pick(cands)
-        trunc = (ParseCode.TRUNCATED,) if truncated else ()
+        cands, last_open = candidates(chunk)
+        found = _pick(cands, last_open)
         if found is not None:
-            return Located(found.items, think + fenced + found.repairs, trunc)
+            return Located(found.items, think + fenced + found.repairs, found.errors)
         failure = _failure(cands) if failure == ParseCode.NO_JSON else failure
-    return Located(None, think, ((ParseCode.TRUNCATED,) if truncated else ()) + (failure,))
+    truncated = (ParseCode.TRUNCATED,) if last_open is not None else ()
+    return Located(None, think, (*truncated, failure))

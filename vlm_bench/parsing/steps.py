@@ -30,7 +30,8 @@ from vlm_bench.types.skill import SkillField, SkillSpec
 
 _DIRECTIONS = {d.value: d for d in Direction}
 _NULLS = frozenset({"", "none", "null", "na", "nil"})
-_NUMBER = re.compile(r"^\s*(\d+(?:\.\d*)?|\.\d+)\s*(?:m|meters?|metres?)?\s*$", re.I)
+# One optional space run after the number (two adjacent ones backtrack quadratically).
+_NUMBER = re.compile(r"^\s*(\d+(?:\.\d*)?|\.\d+)\s*(?:(?:m|meters?|metres?)\s*)?$", re.I)
 
 
 def canonical_keys(raw: dict[str, Any]) -> dict[str, Any]:
