@@ -39,7 +39,7 @@ TABLE_EXEC_VALUES = ("exec_success", "S_task")
 """Execution columns of the printed tables (the VLA metrics are in ``summary.csv`` only)."""
 SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error")
 """Columns of :func:`summary_long` (and ``summary.csv``) without execution; with execution,
-:data:`EXEC_VALUES` follow ``Succ``."""
+:data:`EXEC_VALUES` follow ``Loc_over_blind``."""
 PERCENT = ("Succ", "exec_success")
 """Boolean columns reported as percentages."""
 
@@ -106,7 +106,8 @@ def summary_long(frame: pd.DataFrame, by: str = "model") -> pd.DataFrame:
 
     Returns:
         Columns :data:`SUMMARY_COLUMNS` (with ``by`` in place of ``model``; the execution
-        columns :data:`EXEC_VALUES` after ``Succ`` when the records include executing runs),
+        columns :data:`EXEC_VALUES` after ``Loc_over_blind`` when the records include
+        executing runs),
         rows ordered by system (first appearance), instruction (explicit, implicit, both), suite
         (paper order, overall last).
     """
