@@ -10,7 +10,6 @@ the few-shot examples), so the text is the only channel between the scene and a 
 
 from __future__ import annotations
 
-import math
 import re
 from collections.abc import Sequence
 from typing import Literal
@@ -176,9 +175,3 @@ def parse_scene(text: str) -> list[SceneEntry]:
         )
         out.append(entry)
     return out
-
-
-def unit(v: tuple[float, float]) -> tuple[float, float]:
-    """``v`` scaled to length 1."""
-    n = math.hypot(*v)
-    return v[0] / n, v[1] / n

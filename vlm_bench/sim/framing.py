@@ -26,11 +26,6 @@ def view_xyaxes(forward: Vec) -> list[float]:
     return [*right.tolist(), *up.tolist()]
 
 
-def look_at_xyaxes(pos: Vec, target: Vec) -> list[float]:
-    """MuJoCo ``xyaxes`` for a camera at ``pos`` looking at ``target`` with world z up."""
-    return view_xyaxes(target - pos)
-
-
 def _axes(forward: Vec) -> tuple[Vec, Vec, Vec]:
     xy = np.array(view_xyaxes(forward)).reshape(2, 3)
     return xy[0], xy[1], forward / np.linalg.norm(forward)

@@ -54,6 +54,19 @@ class SnapshotRenderer:
         self._option = mujoco.MjvOption()
         self._buffers: dict[int, RGBImage] = {}
 
+    def _posed_scene(
+        self, model: mujoco.MjModel, data: mujoco.MjData, camera: str, size: int
+    ) -> tuple[mujoco.MjvScene, mujoco.MjrContext]:
+        """The bound scene, updated to ``data`` as seen from the fixed camera ``camera``."""
+        scene, mjr = self._bind(model, size)
+        cam = mujoco.MjvCamera()
+        cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
+        cam.fixedcamid = _camera_id(model, camera)
+        mujoco.mjv_updateScene(
+            model, data, self._option, None, cam, mujoco.mjtCatBit.mjCAT_ALL, scene
+        )
+        return scene, mjr
+
     def render(
         self, model: mujoco.MjModel, data: mujoco.MjData, camera: str, size: int
     ) -> RGBImage:
@@ -68,13 +81,7 @@ class SnapshotRenderer:
         Returns:
             A new ``(size, size, 3)`` uint8 RGB array, row 0 at the top.
         """
-        scene, mjr = self._bind(model, size)
-        cam = mujoco.MjvCamera()
-        cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
-        cam.fixedcamid = _camera_id(model, camera)
-        mujoco.mjv_updateScene(
-            model, data, self._option, None, cam, mujoco.mjtCatBit.mjCAT_ALL, scene
-        )
+        scene, mjr = self._posed_scene(model, data, camera, size)
         scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = self.shadows
         rect = mujoco.MjrRect(0, 0, size, size)
         mujoco.mjr_render(rect, scene, mjr)
@@ -97,13 +104,7 @@ class SnapshotRenderer:
             A ``(size, size)`` int32 array of geom ids, -1 where no geom is seen (sky, or
             decoration that is not a geom); row 0 at the top. Transparent geoms count as opaque.
         """
-        scene, mjr = self._bind(model, size)
-        cam = mujoco.MjvCamera()
-        cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
-        cam.fixedcamid = _camera_id(model, camera)
-        mujoco.mjv_updateScene(
-            model, data, self._option, None, cam, mujoco.mjtCatBit.mjCAT_ALL, scene
-        )
+        scene, mjr = self._posed_scene(model, data, camera, size)
         scene.flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = True
         scene.flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = True
         rect = mujoco.MjrRect(0, 0, size, size)
