@@ -9,7 +9,7 @@ import mujoco
 
 from vlm_bench.catalog.world import environment
 from vlm_bench.sim.cameras import add_third_person_cameras
-from vlm_bench.sim.constants import ARM_OBSERVE, GRIPPER_OPEN, PHYSICS_DT
+from vlm_bench.sim.constants import ARM_OBSERVE, GRIPPER_OPEN, PHYSICS_DT, SLEEP
 from vlm_bench.sim.environment import add_environment
 from vlm_bench.sim.objects import add_object, apply_initial_state
 from vlm_bench.sim.robot import add_aerial_manipulator, set_arm_qpos, set_arm_targets
@@ -43,6 +43,8 @@ def build_spec(episode: Episode) -> mujoco.MjSpec:
     spec = mujoco.MjSpec()
     spec.modelname = f"{episode.task_id}_seed{episode.seed}"
     spec.option.timestep = PHYSICS_DT
+    if SLEEP:
+        spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     add_environment(spec, environment(episode.environment), episode.lighting)
     for obj in episode.objects:
         add_object(spec, obj)
