@@ -22,9 +22,10 @@ app = typer.Typer(
 
 
 def _register() -> None:
-    from vlm_bench.cli import world_cmds
+    from vlm_bench.cli import report_cmd, world_cmds
 
     world_cmds.register(app)
+    report_cmd.register(app)
     try:
         from vlm_bench.cli import execute_cmd, run_cmds
     except ImportError:  # the planning pipeline commands are optional during development

@@ -2,32 +2,39 @@
 
 Aggregation, documented once here:
 
-* A **suite cell** (model × instruction × suite) is the mean over that cell's episodes; ``Succ``
-  is the share of exact plans in percent.
-* **Overall** (``suite == "overall"``) is the *unweighted mean of the suite cells* of the row,
-  like the paper's "Overall Average" (which averages its suite columns; suites have 20/15/15/10
-  tasks, so this differs from a mean over episodes when the suites are all present).
-* **Instruction ``both``** averages the explicit and implicit cells of each suite with equal
-  weight; its overall is again the mean of its suite cells, i.e. the paper's per-model overall.
+* A **group cell** (system × instruction × group, where a group is a suite or one of the paper's
+  columns, :mod:`vlm_bench.report.groups`) is the mean over that cell's episodes; ``Succ`` is the
+  share of exact plans in percent.
+* **Overall** (group ``overall``) is the *unweighted mean of the group cells* of the row, like the
+  paper's "Overall Average" (which averages its columns; suites have 20/15/15/10 tasks, so this
+  differs from a mean over episodes when the suites are all present).
+* **Instruction ``both``** averages the explicit and implicit cells of each group with equal
+  weight; its overall is again the mean of its group cells, i.e. the paper's per-model overall.
 * Records whose backend failed (``status == "error"``) are left out of the means and counted in
-  ``n_error``; a resume retries them. A suite cell with no answered episode is NaN, and so are
-  the overall and ``both`` values built from it (they would otherwise cover fewer suites).
+  ``n_error``; a resume retries them. A group cell with no answered episode is NaN, and so are
+  the overall and ``both`` values built from it (they would otherwise cover fewer groups).
 * Runs that execute plans add the execution columns (:data:`EXEC_VALUES`): ``exec_success`` is
   the share of answered episodes whose execution succeeded, in percent; ``S_task``, ``S_pos``,
   ``S_arm``, ``S_safe`` and ``VLA_total`` are means over the answered episodes, an output with no
   plan to execute counting 0 in each. They aggregate like the planning metrics. Runs that do not
   execute plans have none of these columns (NaN when compared with runs that do).
+
+A *system* (a table row, with the instruction) is one value of the ``by`` column(s): ``model`` by
+default, ``run`` to compare ablations of one model, or several columns (``views, resolution``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.frame import EXEC_METRICS, METRICS
+from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.types.task import Suite
 
-OVERALL = "overall"
-"""``suite`` value of overall rows."""
+__all__ = ["OVERALL"]
+
 BOTH = "both"
 """``instruction`` value of rows that average the two instruction variants."""
 VALUES = (*METRICS, "Succ", "Loc_over_blind")
@@ -46,6 +53,14 @@ PERCENT = ("Succ", "exec_success")
 SUITE_ORDER = [s.value for s in Suite]
 INSTRUCTION_ORDER = ["explicit", "implicit", BOTH]
 
+By = str | Sequence[str]
+"""One column or several naming a table row's system."""
+
+
+def by_columns(by: By) -> list[str]:
+    """``by`` as a list of column names."""
+    return [by] if isinstance(by, str) else list(by)
+
 
 def summary_values(frame: pd.DataFrame) -> tuple[str, ...]:
     """The value columns a summary of ``frame`` has: :data:`VALUES`, plus :data:`EXEC_VALUES`
@@ -61,89 +76,140 @@ def table_values(long: pd.DataFrame) -> tuple[str, ...]:
     return (*VALUES, *TABLE_EXEC_VALUES) if "exec_success" in long.columns else VALUES
 
 
-def _cells(frame: pd.DataFrame, by: str, values: tuple[str, ...]) -> pd.DataFrame:
+def _cells(frame: pd.DataFrame, keys: list[str], values: tuple[str, ...]) -> pd.DataFrame:
     ok = frame[frame["status"] == "ok"].copy()
     for col in PERCENT:
         if col in values:
             ok[col] = ok[col].astype(float) * 100.0
-    keys = [by, "instruction", "suite"]
-    cells = ok.groupby(keys, sort=False)[list(values)].mean()
-    cells["n"] = ok.groupby(keys, sort=False).size()
-    errors = frame[frame["status"] != "ok"].groupby(keys, sort=False).size()
+    grouped = ok.groupby(keys, sort=False, dropna=False)
+    cells = grouped[list(values)].mean()
+    cells["n"] = grouped.size()
+    errors = frame[frame["status"] != "ok"].groupby(keys, sort=False, dropna=False).size()
     cells = cells.join(errors.rename("n_error"), how="outer")
     cells[["n", "n_error"]] = cells[["n", "n_error"]].fillna(0).astype(int)
     return cells.reset_index()
 
 
-def _overall(cells: pd.DataFrame, by: str, values: tuple[str, ...]) -> pd.DataFrame:
-    grouped = cells.groupby([by, "instruction"], sort=False)
-    # A cell whose episodes all failed is NaN and makes the overall NaN: an overall must cover
-    # the same suites to be comparable (resume to retry the failures).
-    out = grouped[list(values)].agg(lambda col: col.mean(skipna=False))
+def _strict_mean(col: pd.Series) -> float:
+    # A cell whose episodes all failed is NaN and makes the mean NaN: an overall must cover the
+    # same groups to be comparable (resume to retry the failures).
+    return float(col.mean(skipna=False))
+
+
+def _overall(
+    cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...]
+) -> pd.DataFrame:
+    grouped = cells.groupby([*by, "instruction"], sort=False, dropna=False)
+    out = grouped[list(values)].agg(_strict_mean)
     out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
     out = out.reset_index()
-    out["suite"] = OVERALL
+    out[group] = OVERALL
     return out
 
 
-def _both(cells: pd.DataFrame, by: str, values: tuple[str, ...]) -> pd.DataFrame:
-    multi = cells.groupby(by)["instruction"].transform("nunique") > 1
-    grouped = cells[multi].groupby([by, "suite"], sort=False)
-    out = grouped[list(values)].agg(lambda col: col.mean(skipna=False))
+def _both(cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...]) -> pd.DataFrame:
+    variants = cells.groupby(by, dropna=False)["instruction"].transform("nunique")
+    grouped = cells[variants > 1].groupby([*by, group], sort=False, dropna=False)
+    out = grouped[list(values)].agg(_strict_mean)
     out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
     out = out.reset_index()
     out["instruction"] = BOTH
     return out
 
 
-def summary_long(frame: pd.DataFrame, by: str = "model") -> pd.DataFrame:
-    """Suite cells plus overall and ``both`` rows (see the module docstring).
+def system_order(frame: pd.DataFrame, by: By) -> list[tuple[object, ...]]:
+    """The systems (tuples of ``by`` values) in order of first appearance."""
+    return list(dict.fromkeys(frame[by_columns(by)].itertuples(index=False, name=None)))
+
+
+def summary_long(
+    frame: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES
+) -> pd.DataFrame:
+    """Group cells plus overall and ``both`` rows (see the module docstring).
 
     Args:
-        frame: Episode rows from :func:`vlm_bench.report.frame.records_frame`.
-        by: Column that names a table row's system (``model``, or ``run_id`` to compare
-            ablations of one model).
+        frame: Episode rows (:func:`vlm_bench.report.load` or :func:`records_frame`).
+        by: Column(s) that name a table row's system (``model``; ``run`` to compare ablations
+            of one model; ``["views", "resolution"]``).
+        grouping: Column groups: :data:`~vlm_bench.report.groups.SUITES` or the paper's
+            (:func:`~vlm_bench.report.groups.paper_grouping`).
 
     Returns:
-        Columns :data:`SUMMARY_COLUMNS` (with ``by`` in place of ``model``; the execution
-        columns :data:`EXEC_VALUES` after ``Loc_over_blind`` when the records include
-        executing runs),
-        rows ordered by system (first appearance), instruction (explicit, implicit, both), suite
-        (paper order, overall last).
+        Columns ``by``, ``instruction``, the grouping's column (``suite``), the values
+        (:data:`VALUES`, with :data:`EXEC_VALUES` after ``Loc_over_blind`` when the records
+        include executing runs), ``n`` and ``n_error``; rows ordered by system (first
+        appearance), instruction (explicit, implicit, both), group (table order, overall last).
     """
+    keys, group = by_columns(by), grouping.column
     if frame.empty:
-        return pd.DataFrame(columns=[by, *SUMMARY_COLUMNS[1:]])
+        return pd.DataFrame(columns=[*keys, "instruction", group, *VALUES, "n", "n_error"])
+    frame = grouping.assign(frame)
     values = summary_values(frame)
-    columns = [by, "instruction", "suite", *values, "n", "n_error"]
-    cells = _cells(frame, by, values)
-    both = _both(cells, by, values)
-    suite_rows = pd.concat([cells, both], ignore_index=True) if not both.empty else cells
-    table = pd.concat([suite_rows, _overall(suite_rows, by, values)], ignore_index=True)
-    systems = list(dict.fromkeys(frame[by]))
-    table["_s"] = table[by].map(systems.index)
+    cells = _cells(frame, [*keys, "instruction", group], values)
+    both = _both(cells, keys, group, values)
+    rows = pd.concat([cells, both], ignore_index=True) if not both.empty else cells
+    table = pd.concat([rows, _overall(rows, keys, group, values)], ignore_index=True)
+    systems = system_order(frame, keys)
+    table["_s"] = [systems.index(s) for s in table[keys].itertuples(index=False, name=None)]
     table["_i"] = table["instruction"].map(INSTRUCTION_ORDER.index)
-    table["_u"] = table["suite"].map(
-        lambda s: len(SUITE_ORDER) if s == OVERALL else SUITE_ORDER.index(s)
-    )
-    table = table.sort_values(["_s", "_i", "_u"], kind="stable")
-    return table[columns].reset_index(drop=True)
+    table["_g"] = table[group].map(grouping.position)
+    table = table.sort_values(["_s", "_i", "_g"], kind="stable")
+    return table[[*keys, "instruction", group, *values, "n", "n_error"]].reset_index(drop=True)
 
 
-def summary_wide(long: pd.DataFrame, by: str = "model") -> pd.DataFrame:
-    """The paper layout: rows system × instruction; columns (suite, metric) then overall.
+def summary_wide(long: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES) -> pd.DataFrame:
+    """The paper layout: rows system × instruction; columns (group, metric) then overall.
 
-    Column labels are ``(suite value or "overall", metric)`` tuples; only suites present appear.
+    Column labels are ``(group value or "overall", metric)`` tuples; only groups present appear.
     Metrics are :func:`table_values` (the paper's, then ``exec_success`` and ``S_task`` when
     plans were executed).
     """
     if long.empty:
         return pd.DataFrame()
+    keys, group = by_columns(by), grouping.column
     values = list(table_values(long))
-    wide = long.pivot_table(
-        index=[by, "instruction"], columns="suite", values=values, sort=False, dropna=False
+    rows = list(dict.fromkeys(long[[*keys, "instruction"]].itertuples(index=False, name=None)))
+    present = set(long[group])
+    groups = [g for g in [*grouping.order, OVERALL] if g in present]
+    found: dict[tuple[object, ...], dict[str, float]] = {}
+    for record in long[[*keys, "instruction", group, *values]].to_dict("records"):
+        key = (*(record[k] for k in keys), record["instruction"], record[group])
+        found[key] = record
+    data = [
+        [float(found.get((*row, g), {}).get(m, float("nan"))) for g in groups for m in values]
+        for row in rows
+    ]
+    return pd.DataFrame(
+        data,
+        index=pd.MultiIndex.from_tuples(rows, names=[*keys, "instruction"]),
+        columns=pd.MultiIndex.from_product([groups, values]),
     )
-    suites = [s for s in [*SUITE_ORDER, OVERALL] if s in set(long["suite"])]
-    wide = wide.swaplevel(0, 1, axis=1)
-    wide = wide.reindex(columns=pd.MultiIndex.from_product([suites, values]))
-    rows = list(dict.fromkeys(zip(long[by], long["instruction"], strict=True)))
-    return wide.reindex(pd.MultiIndex.from_tuples(rows, names=[by, "instruction"]))
+
+
+def sort_systems(
+    long: pd.DataFrame,
+    by: By = "model",
+    grouping: Grouping = SUITES,
+    metric: str = "S_total",
+    ascending: bool = True,
+) -> pd.DataFrame:
+    """``long`` with its systems ordered by their overall ``metric`` (the paper sorts by overall
+    Tot, ascending); a system's overall is its ``both`` row, or its first instruction's. Systems
+    without a value go last; ties keep their order."""
+    keys = by_columns(by)
+    overall = long[long[grouping.column] == OVERALL]
+    score: dict[tuple[object, ...], float] = {}
+    for record in overall.to_dict("records"):
+        system = tuple(record[k] for k in keys)
+        if system not in score or record["instruction"] == BOTH:
+            score[system] = float(record[metric])
+    systems = system_order(long, keys)
+    sign = 1.0 if ascending else -1.0
+
+    def rank(system: tuple[object, ...]) -> tuple[bool, float, int]:
+        value = score.get(system, float("nan"))
+        return (value != value, sign * value if value == value else 0.0, systems.index(system))
+
+    ranked = sorted(systems, key=rank)
+    position = [ranked.index(s) for s in long[keys].itertuples(index=False, name=None)]
+    return long.assign(_r=position).sort_values("_r", kind="stable").drop(columns="_r")

@@ -11,17 +11,17 @@ from rich import box
 from rich.table import Table
 
 from vlm_bench.report.frame import load_records_frame
+from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.summary import (
-    OVERALL,
-    SUITE_ORDER,
     VALUES,
+    By,
+    by_columns,
     summary_long,
     summary_wide,
     table_values,
 )
 from vlm_bench.storage import RunPaths
 from vlm_bench.storage.jsonl import write_text_atomic
-from vlm_bench.types.task import Suite
 
 HEADERS = {
     "S_plan": "Plan",
@@ -35,18 +35,12 @@ HEADERS = {
     "S_task": "Task",
 }
 """Metric column headers as in the paper (Exec = execution success, Task = S_task)."""
-SUITE_SHORT = {
-    Suite.BASE.value: "BM",
-    Suite.OBJECT_SPATIAL.value: "OS",
-    Suite.SEMANTIC.value: "SU",
-    Suite.LONG_HORIZON.value: "LH",
-    OVERALL: "Overall",
-}
+SUITE_SHORT = SUITES.short
 """Short suite names for column headers."""
 
 LEGEND = (
     "Succ in %; ΔLoc = Loc minus the blind floor's Loc on the same episodes (what the images "
-    "add); Overall = unweighted mean of the suite columns; `both` = mean of explicit "
+    "add); Overall = unweighted mean of the {groups} columns; `both` = mean of explicit "
     "and implicit; episodes whose backend failed are excluded (see summary.csv n_error)."
 )
 EXEC_LEGEND = (
@@ -56,13 +50,14 @@ EXEC_LEGEND = (
 )
 
 
-def _fmt(value: object) -> str:
+def fmt(value: object) -> str:
+    """A table number with one decimal; – for a missing value."""
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return "–"
     return f"{float(value):.1f}"  # type: ignore[arg-type]
 
 
-def _suites(wide: pd.DataFrame) -> list[str]:
+def _groups(wide: pd.DataFrame) -> list[str]:
     return list(dict.fromkeys(col[0] for col in wide.columns))
 
 
@@ -70,70 +65,88 @@ def _metrics(wide: pd.DataFrame) -> list[str]:
     return list(dict.fromkeys(col[1] for col in wide.columns))
 
 
-def _header_names(suites: list[str], metrics: list[str]) -> list[str]:
-    return [f"{SUITE_SHORT[s]} {HEADERS[m]}" for s in suites for m in metrics]
+def _header_names(grouping: Grouping, groups: list[str], metrics: list[str]) -> list[str]:
+    return [f"{grouping.short[g]} {HEADERS[m]}" for g in groups for m in metrics]
 
 
-def summary_markdown(long: pd.DataFrame, by: str = "model") -> str:
-    """The paper-layout table as GitHub Markdown, with a legend of the suite abbreviations."""
-    wide = summary_wide(long, by)
+def system_headers(by: By) -> list[str]:
+    """Row-label headers: ``Model`` for the model column, else the column names."""
+    return ["Model" if b == "model" else b for b in by_columns(by)]
+
+
+def group_legend(grouping: Grouping, groups: Sequence[str]) -> str:
+    """``BM = Base Manipulation, LH = Long-Horizon`` for the groups shown."""
+    return ", ".join(f"{grouping.short[g]} = {grouping.titles[g]}" for g in groups if g != OVERALL)
+
+
+def summary_markdown(long: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES) -> str:
+    """The paper-layout table as GitHub Markdown, with a legend of the group abbreviations."""
+    wide = summary_wide(long, by, grouping)
     if wide.empty:
         return "_No episodes._\n"
-    suites, metrics = _suites(wide), _metrics(wide)
-    head = ["Model" if by == "model" else by, "Instr.", *_header_names(suites, metrics)]
+    groups, metrics = _groups(wide), _metrics(wide)
+    head = [*system_headers(by), "Instr.", *_header_names(grouping, groups, metrics)]
+    labels = len(by_columns(by)) + 1
     lines = [
         "| " + " | ".join(head) + " |",
-        "|" + "|".join([":--", ":--"] + ["--:"] * (len(head) - 2)) + "|",
+        "|" + "|".join([":--"] * labels + ["--:"] * (len(head) - labels)) + "|",
     ]
-    for (system, instruction), row in wide.iterrows():
-        cells = [str(system), str(instruction), *(_fmt(v) for v in row.tolist())]
+    for key, row in wide.iterrows():
+        cells = [*(str(k) for k in key), *(fmt(v) for v in row.tolist())]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
-    names = ", ".join(f"{SUITE_SHORT[s]} = {Suite(s).label}" for s in suites if s in SUITE_ORDER)
-    counts = long[long["suite"] == OVERALL]
-    n = int(counts[counts["instruction"] != "both"]["n"].sum())
-    legend = f"{LEGEND} {EXEC_LEGEND}" if "exec_success" in metrics else LEGEND
+    overall = long[long[grouping.column] == OVERALL]
+    n = int(overall[overall["instruction"] != "both"]["n"].sum())
+    legend = LEGEND.format(groups="suite" if grouping.name == "suites" else "paper's")
+    legend = f"{legend} {EXEC_LEGEND}" if "exec_success" in metrics else legend
+    names = group_legend(grouping, groups)
     return "\n".join(lines) + f"\n\n{names}. {legend} Episodes scored: {n}.\n"
 
 
 def _caption(metrics: Sequence[str]) -> str:
-    caption = "Succ in %; Overall = mean of suites"
+    caption = "Succ in %; Overall = mean of the column groups"
     if "exec_success" in metrics:
         caption += "; Exec = execution success in %, Task = S_task"
     return caption
 
 
-def _rich_wide(wide: pd.DataFrame, by: str, title: str | None) -> Table:
+def _rich_wide(wide: pd.DataFrame, by: By, grouping: Grouping, title: str | None) -> Table:
     metrics = _metrics(wide)
-    table = Table(title=title, caption=_caption(metrics))
-    table.add_column("Model" if by == "model" else by, no_wrap=True)
+    groups = _groups(wide)
+    caption = f"{group_legend(grouping, groups)}; {_caption(metrics)}"
+    table = Table(title=title, caption=caption)
+    for name in system_headers(by):
+        table.add_column(name, no_wrap=True)
     table.add_column("Instr.")
-    for suite in _suites(wide):
+    for group in groups:
         for metric in metrics:
-            label = f"{SUITE_SHORT[suite]}\n{HEADERS[metric]}"
+            label = f"{grouping.short[group]}\n{HEADERS[metric]}"
             table.add_column(
                 f"[bold]{label}[/]" if metric == "S_total" else label, justify="right", no_wrap=True
             )
-    for (system, instruction), row in wide.iterrows():
-        table.add_row(str(system), str(instruction), *(_fmt(v) for v in row.tolist()))
+    for key, row in wide.iterrows():
+        table.add_row(*(str(k) for k in key), *(fmt(v) for v in row.tolist()))
     return table
 
 
-def _rich_long(long: pd.DataFrame, by: str, title: str | None, short: bool) -> Table:
+def _rich_long(
+    long: pd.DataFrame, by: By, grouping: Grouping, title: str | None, short: bool
+) -> Table:
+    keys = by_columns(by)
     metrics = table_values(long)
     caption = _caption(metrics)
     if short:
-        present = [s for s in SUITE_ORDER if s in set(long["suite"])]
-        legend = ", ".join(f"{SUITE_SHORT[s]} = {Suite(s).label}" for s in present)
-        caption = f"{legend}; {caption}"
+        present = [g for g in grouping.order if g in set(long[grouping.column])]
+        caption = f"{group_legend(grouping, present)}; {caption}"
     # Eight metric columns (with execution) fit 80 characters only with the box's one-space
     # column separators and no padding.
     padding = (0, 0) if len(metrics) > len(VALUES) else (0, 1)
     table = Table(
         title=title, caption=caption, box=box.SIMPLE_HEAD, collapse_padding=True, padding=padding
     )
-    table.add_column("Model" if by == "model" else by, overflow="fold")
+    for name in system_headers(by):
+        table.add_column(name, overflow="fold")
     table.add_column("Instr.")
-    table.add_column("Suite", no_wrap=True)
+    table.add_column("Suite" if grouping.name == "suites" else "Column", no_wrap=True)
     for metric in metrics:
         bold = metric == "S_total"
         table.add_column(
@@ -144,14 +157,16 @@ def _rich_long(long: pd.DataFrame, by: str, title: str | None, short: bool) -> T
     table.add_column("n", justify="right")
     previous = None
     for _, row in long.iterrows():
-        group = (row[by], row["instruction"])
-        overall = row["suite"] == OVERALL
-        name = SUITE_SHORT[row["suite"]] if short or overall else Suite(row["suite"]).label
+        group = (*(row[k] for k in keys), row["instruction"])
+        value = row[grouping.column]
+        overall = value == OVERALL
+        name = grouping.short[value] if short or overall else grouping.titles[value]
+        first = group != previous
         cells = [
-            str(row[by]) if group != previous else "",
-            str(row["instruction"]) if group != previous else "",
+            *(str(row[k]) if first else "" for k in keys),
+            str(row["instruction"]) if first else "",
             name,
-            *(_fmt(row[m]) for m in metrics),
+            *(fmt(row[m]) for m in metrics),
             str(row["n"]),
         ]
         table.add_row(*cells, style="bold" if overall else None, end_section=overall)
@@ -160,20 +175,26 @@ def _rich_long(long: pd.DataFrame, by: str, title: str | None, short: bool) -> T
 
 
 def summary_rich(
-    long: pd.DataFrame, by: str = "model", title: str | None = None, width: int | None = None
+    long: pd.DataFrame,
+    by: By = "model",
+    title: str | None = None,
+    width: int | None = None,
+    grouping: Grouping = SUITES,
 ) -> Table:
     """The summary for the terminal.
 
-    The paper layout (rows system × instruction, suite × metric columns) when it fits in
-    ``width`` characters (None = always); otherwise one row per system × instruction × suite.
+    The paper layout (rows system × instruction, group × metric columns) when it fits in
+    ``width`` characters (None = always); otherwise one row per system × instruction × group.
     """
-    wide = summary_wide(long, by)
+    wide = summary_wide(long, by, grouping)
     if wide.empty:
-        return _rich_long(long, by, title, short=False)
-    name = max(len(str(s)) for s in long[by])
-    if width is None or 24 + name + 8 * len(wide.columns) <= width:
-        return _rich_wide(wide, by, title)
-    return _rich_long(long, by, title, short=name + 58 + 7 * len(table_values(long)) > width)
+        return _rich_long(long, by, grouping, title, short=False)
+    keys = by_columns(by)
+    name = sum(max(len(str(s)) for s in long[k]) + 3 for k in keys)
+    if width is None or 21 + name + 8 * len(wide.columns) <= width:
+        return _rich_wide(wide, by, grouping, title)
+    short = name + 55 + 7 * len(table_values(long)) > width
+    return _rich_long(long, by, grouping, title, short=short)
 
 
 def write_summary(run_dir: Path, by: str = "model") -> pd.DataFrame:

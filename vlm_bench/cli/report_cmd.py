@@ -1,0 +1,135 @@
+"""``vlm-bench report``: the paper's tables, statistics, plots and galleries from run folders.
+
+A thin layer over :mod:`vlm_bench.report.make`: every option is checked and every run read
+before a file is written.
+"""
+
+from __future__ import annotations
+
+import io
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+from rich.console import Console
+
+if TYPE_CHECKING:
+    from vlm_bench.report.make import Report
+
+console = Console()
+
+
+def _split(text: str) -> tuple[str, ...]:
+    return tuple(part.strip() for part in text.split(",") if part.strip())
+
+
+def report(
+    runs: Annotated[
+        list[str], typer.Argument(metavar="RUN...", help="Run folders or glob patterns.")
+    ],
+    by: Annotated[
+        str,
+        typer.Option(help="Episode column(s) naming a row, comma-separated (views,resolution)."),
+    ] = "model",
+    grouping: Annotated[
+        str, typer.Option(help="Column groups: suites, paper (the paper's 3 columns) or both.")
+    ] = "both",
+    format: Annotated[
+        str, typer.Option("--format", "-f", help="terminal, markdown, csv, parquet or latex.")
+    ] = "terminal",
+    out: Annotated[Path | None, typer.Option(help="Write the tables to this file.")] = None,
+    standalone: Annotated[
+        bool, typer.Option("--standalone", help="LaTeX: a whole document (pdflatex-ready).")
+    ] = False,
+    sort: Annotated[str, typer.Option(help="Row order: given, or total (overall Tot).")] = "given",
+    stats: Annotated[
+        bool, typer.Option("--stats/--no-stats", help="Intervals, parse tiers, error codes.")
+    ] = True,
+    paired: Annotated[
+        str | None,
+        typer.Option(
+            help="Compare every other row with this one (a value of --by) on common episodes."
+        ),
+    ] = None,
+    episodes: Annotated[
+        Path | None, typer.Option(help="Also write the per-episode frame (.csv or .parquet).")
+    ] = None,
+    plots: Annotated[Path | None, typer.Option(help="Write PNG plots into this folder.")] = None,
+    gallery: Annotated[
+        Path | None, typer.Option(help="Write an HTML gallery per run into this folder.")
+    ] = None,
+    inline_images: Annotated[
+        bool, typer.Option("--inline-images", help="Gallery: one file, images inside.")
+    ] = False,
+    render: Annotated[
+        bool,
+        typer.Option("--render/--no-render", help="Gallery: render views the cache lacks."),
+    ] = True,
+    n_boot: Annotated[int, typer.Option(help="Bootstrap replicates.")] = 2000,
+    seed: Annotated[int, typer.Option(help="Bootstrap seed.")] = 0,
+) -> None:
+    """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
+    from vlm_bench.report.make import build_report, render_tables, write_outputs
+    from vlm_bench.report.options import report_options
+
+    options = report_options(
+        runs=tuple(runs),
+        by=_split(by),
+        grouping=grouping,
+        format=format,
+        out=out,
+        standalone=standalone,
+        sort=sort,
+        stats=stats,
+        paired=paired,
+        episodes=episodes,
+        plots=plots,
+        gallery=gallery,
+        inline_images=inline_images,
+        render_missing=render,
+        n_boot=n_boot,
+        seed=seed,
+    )
+    result = build_report(options)
+    tables: str | bytes | None = None
+    if options.format != "terminal":
+        tables = render_tables(result)
+    elif options.out is not None:
+        buffer = io.StringIO()
+        _print_terminal(result, Console(file=buffer, width=200, color_system=None))
+        tables = buffer.getvalue()
+    else:
+        _print_terminal(result, console)
+    if options.out is None and isinstance(tables, str):
+        sys.stdout.write(tables)
+    for path in write_outputs(result, tables):
+        print(f"wrote {path}", file=sys.stderr)
+
+
+def _print_terminal(result: Report, target: Console) -> None:
+    from vlm_bench.report.tables import summary_rich
+    from vlm_bench.report.text import frame_rich
+
+    by = list(result.options.by)
+    for g in result.groupings:
+        title = "Our four suites" if g.name == "suites" else "The paper's three columns"
+        target.print(summary_rich(result.tables[g.name], by, title, target.width, g))
+    for section in result.sections:
+        table = frame_rich(section.frame, section.title, section.caption, section.numeric)
+        if section.narrow is not None and _width(target, table) > target.width:
+            numeric = ("value [CI]",)
+            table = frame_rich(section.narrow, section.title, section.caption, numeric)
+        target.print(table)
+
+
+def _width(console: Console, table: object) -> int:
+    from rich.measure import Measurement
+
+    options = console.options.update(max_width=10_000)
+    return Measurement.get(console, options, table).maximum  # type: ignore[arg-type]
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``report`` to ``app``."""
+    app.command()(report)

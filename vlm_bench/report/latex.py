@@ -1,0 +1,185 @@
+"""The paper table as LaTeX (booktabs), laid out like AIR-VLA's ``tab:vlm_planning_comprehensive``.
+
+Rows are system × instruction (Exp./Imp.); each column group has Plan, Loc, Obj, Skill, Tot,
+Succ (and Exec, Task when plans were executed); the Overall group spans a system's two
+instruction rows with the ``both`` values, as the paper's "Overall Average" does. The best value
+of each column is bold. The fragment needs only ``booktabs`` and ``graphicx``: cells spanning two
+rows are lowered with ``\\raisebox`` instead of ``multirow``, which minimal TeX installations lack.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Sequence
+
+import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
+
+from vlm_bench.report.groups import OVERALL, SUITES, Grouping
+from vlm_bench.report.summary import BOTH, By, by_columns, summary_wide, table_values
+from vlm_bench.report.tables import HEADERS, system_headers
+
+INSTRUCTION_SHORT = {"explicit": "Exp.", "implicit": "Imp.", BOTH: "Both"}
+_SPECIAL = re.compile(r"([\\&%$#_{}~^])")
+_REPLACE = {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+_LOWER = r"\raisebox{-0.6\normalbaselineskip}[0pt][0pt]{%s}"
+_HEAD = r"\raisebox{-1.2\normalbaselineskip}[0pt][0pt]{\textbf{%s}}"
+
+
+def escape(text: str) -> str:
+    """``text`` with LaTeX's special characters escaped."""
+    return _SPECIAL.sub(lambda m: _REPLACE.get(m.group(1), "\\" + m.group(1)), text)
+
+
+def _metrics(long: pd.DataFrame) -> list[str]:
+    # The paper's columns (ΔLoc is ours; it stays in the Markdown and terminal tables).
+    return [m for m in table_values(long) if m != "Loc_over_blind"]
+
+
+def _best(values: Sequence[float]) -> float:
+    finite = [v for v in values if not math.isnan(v)]
+    return max(finite) if finite else math.nan
+
+
+def _cell(value: float, best: float) -> str:
+    if math.isnan(value):
+        return "--"
+    text = f"{value:.1f}"
+    return (
+        rf"\textbf{{{text}}}"
+        if not math.isnan(best) and round(value, 1) == round(best, 1)
+        else text
+    )
+
+
+def _blocks(wide: pd.DataFrame, n_keys: int) -> list[tuple[tuple[object, ...], list[str]]]:
+    """Systems with their instruction rows (``both`` left out when explicit/implicit exist)."""
+    blocks: dict[tuple[object, ...], list[str]] = {}
+    for key in wide.index:
+        blocks.setdefault(tuple(key[:n_keys]), []).append(str(key[n_keys]))
+    out = []
+    for system, rows in blocks.items():
+        shown = [r for r in rows if r != BOTH] or rows
+        out.append((system, shown))
+    return out
+
+
+def _overall_of(
+    wide: pd.DataFrame, system: tuple[object, ...], rows: list[str]
+) -> tuple[object, ...]:
+    """The row whose overall values the block shows: ``both`` when present, else its row."""
+    if len(rows) > 1 and (*system, BOTH) in wide.index:
+        return (*system, BOTH)
+    return (*system, rows[0])
+
+
+def summary_latex(
+    long: pd.DataFrame,
+    by: By = "model",
+    grouping: Grouping = SUITES,
+    caption: str | None = None,
+    label: str = "tab:vlm_planning",
+) -> str:
+    """A ``table*`` float in the paper layout (see the module docstring)."""
+    keys = by_columns(by)
+    wide = summary_wide(long, keys, grouping)
+    metrics = _metrics(long)
+    groups = [g for g in dict.fromkeys(c[0] for c in wide.columns) if g != OVERALL]
+    blocks = _blocks(wide, len(keys)) if not wide.empty else []
+    group_rows = [(*s, r) for s, rows in blocks for r in rows]
+    overall_rows = [_overall_of(wide, s, rows) for s, rows in blocks]
+    best = {
+        (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows])
+        for g in groups
+        for m in metrics
+    }
+    best.update(
+        {
+            (OVERALL, m): _best([float(wide.loc[r, (OVERALL, m)]) for r in overall_rows])
+            for m in metrics
+        }
+    )
+    width = len(metrics)
+    lead = len(keys) + 1
+    spec = "l" * lead + "".join(" " + "c" * width for _ in [*groups, OVERALL])
+    titles = [*(grouping.titles[g] for g in groups), "Overall Average"]
+    head = [_HEAD % escape(h) for h in [*system_headers(keys), "Instr."]]
+    head += [rf"\multicolumn{{{width}}}{{c}}{{\textbf{{{escape(t)}}}}}" for t in titles]
+    rules = " ".join(
+        rf"\cmidrule(lr){{{lead + 1 + i * width}-{lead + (i + 1) * width}}}"
+        for i in range(len(titles))
+    )
+    names = [r"\textbf{Tot}" if m == "S_total" else HEADERS[m] for m in metrics]
+    lines = [
+        r"\begin{table*}[t]",
+        r"\centering",
+        rf"\caption{{{caption or _default_caption(long, grouping)}}}",
+        rf"\label{{{label}}}",
+        r"\renewcommand{\arraystretch}{1.2}",
+        r"\setlength{\tabcolsep}{1.2pt}",
+        r"\resizebox{\textwidth}{!}{%",
+        rf"\begin{{tabular}}{{{spec}}}",
+        r"\toprule",
+        " & ".join(head) + r" \\",
+        rules,
+        " & ".join([""] * lead + names * len(titles)) + r" \\",
+        r"\midrule",
+    ]
+    for b, (system, rows) in enumerate(blocks):
+        span = len(rows) == 2
+        for i, row in enumerate(rows):
+            first = i == 0
+            label_cells = [
+                (_LOWER % escape(str(v)) if span else escape(str(v))) if first else ""
+                for v in system
+            ]
+            cells = [*label_cells, INSTRUCTION_SHORT.get(row, escape(row))]
+            key = (*system, row)
+            cells += [
+                _cell(float(wide.loc[key, (g, m)]), best[(g, m)]) for g in groups for m in metrics
+            ]
+            if first or not span:
+                source = overall_rows[b] if span else key
+                overall = [
+                    _cell(float(wide.loc[source, (OVERALL, m)]), best[(OVERALL, m)])
+                    for m in metrics
+                ]
+                cells += [_LOWER % c if span else c for c in overall]
+            else:
+                cells += [""] * width
+            lines.append(" & ".join(cells) + r" \\")
+        if b < len(blocks) - 1:
+            lines.append(r"\midrule")
+    lines += [r"\bottomrule", r"\end{tabular}}", r"\end{table*}"]
+    return "\n".join(lines) + "\n"
+
+
+def _default_caption(long: pd.DataFrame, grouping: Grouping) -> str:
+    executed = "exec_success" in long.columns
+    text = (
+        r"\textbf{VLM task planning.} Normalised sub-metric scores and planning success rate "
+        r"(Succ, \%) per model, task group and instruction type (Exp.: explicit; Imp.: "
+        r"implicit). Overall Average: unweighted mean of the "
+        + ("suites" if grouping.name == "suites" else "columns")
+        + r" over both instruction types. Best value per column in bold."
+    )
+    if executed:
+        text += r" Exec: execution success (\%); Task: sub-goals completed (S\textsubscript{task})."
+    return text
+
+
+def latex_document(fragment: str) -> str:
+    """A standalone landscape document around a table fragment (compiles with ``pdflatex``)."""
+    return "\n".join(
+        [
+            r"\documentclass{article}",
+            r"\usepackage[landscape,margin=1.5cm]{geometry}",
+            r"\usepackage{booktabs}",
+            r"\usepackage{graphicx}",
+            r"\pagestyle{empty}",
+            r"\begin{document}",
+            fragment.rstrip("\n"),
+            r"\end{document}",
+            "",
+        ]
+    )

@@ -1,0 +1,256 @@
+"""A whole report from run folders: check everything, compute, then write.
+
+:func:`build_report` reads the runs and computes every table without writing anything, so a bad
+column, a missing folder or a missing extra fails before a file appears; :func:`render_tables`
+formats the tables and :func:`write_outputs` writes the files (tables, episode frame, plots,
+galleries).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
+
+from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
+from vlm_bench.report.bootstrap import bootstrap_cis
+from vlm_bench.report.diagnostics import (
+    error_code_frequencies,
+    error_code_table,
+    loc_over_blind_run,
+    parse_tier_rates,
+)
+from vlm_bench.report.groups import Grouping, grouping
+from vlm_bench.report.latex import latex_document, summary_latex
+from vlm_bench.report.load import load
+from vlm_bench.report.options import ReportOptions
+from vlm_bench.report.paired import _system, paired_table
+from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
+from vlm_bench.report.summary import sort_systems, summary_long, table_values
+from vlm_bench.report.tables import summary_markdown
+from vlm_bench.report.text import frame_markdown
+from vlm_bench.storage.jsonl import write_text_atomic
+
+PAIRED_METRICS = ("S_total", "Succ", "S_loc")
+"""Metrics of ``--paired`` (plus ``exec_success`` when both runs executed plans)."""
+
+
+@dataclass
+class Report:
+    """Everything a report shows, computed from the runs' records."""
+
+    options: ReportOptions
+    frame: pd.DataFrame
+    """One row per episode (:func:`vlm_bench.report.load`)."""
+    groupings: list[Grouping]
+    tables: dict[str, pd.DataFrame]
+    """Long summary per grouping name (:func:`vlm_bench.report.summary.summary_long`)."""
+    cis: dict[str, pd.DataFrame] = field(default_factory=dict)
+    """Bootstrap intervals per grouping name (with ``stats``)."""
+    codes: pd.DataFrame | None = None
+    """Error-code frequencies, long form (with ``stats``)."""
+    sections: list[Section] = field(default_factory=list)
+    """Statistics as display tables, in order."""
+
+
+def _require(package: str, extra: str) -> None:
+    if importlib.util.find_spec(package) is None:
+        raise MissingExtraError(package, extra)
+
+
+def _check_extras(options: ReportOptions) -> None:
+    parquet = options.format == "parquet" or (
+        options.episodes is not None and options.episodes.suffix == ".parquet"
+    )
+    if parquet:
+        _require("pyarrow", "report")
+    if options.plots is not None:
+        _require("matplotlib", "plots")
+
+
+def _check_paths(options: ReportOptions) -> None:
+    for name, path in (("--out", options.out), ("--episodes", options.episodes)):
+        if path is None:
+            continue
+        if path.is_dir():
+            raise ConfigError(f"{name} {path} is a folder; give a file name")
+        if not path.parent.is_dir():
+            raise ConfigError(f"{name}: folder {path.parent} does not exist")
+    for name, path in (("--plots", options.plots), ("--gallery", options.gallery)):
+        if path is not None and path.exists() and not path.is_dir():
+            raise ConfigError(f"{name} {path} is a file; give a folder")
+
+
+def _check_by(frame: pd.DataFrame, by: tuple[str, ...]) -> None:
+    for column in by:
+        if column not in frame.columns:
+            raise UnknownNameError("--by column", column, frame.columns)
+
+
+def build_report(options: ReportOptions) -> Report:
+    """Load the runs and compute the report; writes nothing.
+
+    Raises:
+        ConfigError / UnknownNameError: A missing run folder, unknown ``--by`` column or
+            ``--paired`` system, or an output path that cannot be written.
+        MissingExtraError: Parquet without pyarrow, plots without matplotlib.
+    """
+    _check_paths(options)
+    _check_extras(options)
+    frame = load(*options.runs)
+    by = list(options.by)
+    _check_by(frame, options.by)
+    names = ["suites", "paper"] if options.grouping == "both" else [options.grouping]
+    groupings = [grouping(n) for n in names]
+    if options.paired is not None:
+        _system(frame, by, options.paired.split("/") if len(by) > 1 else options.paired)
+    tables = {}
+    for g in groupings:
+        long = summary_long(frame, by, g)
+        tables[g.name] = sort_systems(long, by, g) if options.sort == "total" else long
+    report = Report(options, frame, groupings, tables)
+    if options.stats or options.plots is not None or options.format in ("csv", "parquet"):
+        for g in groupings:
+            report.cis[g.name] = bootstrap_cis(
+                frame, by, g, n_boot=options.n_boot, seed=options.seed, level=options.level
+            )
+    if options.stats:
+        _add_sections(report)
+    return report
+
+
+def _add_sections(report: Report) -> None:
+    options, frame, by = report.options, report.frame, list(report.options.by)
+    first = report.groupings[0]
+    report.sections.append(
+        ci_section(report.cis[first.name], by, first, options.n_boot, options.seed, options.level)
+    )
+    report.sections.append(tier_section(parse_tier_rates(frame, by), by))
+    report.codes = error_code_frequencies(frame, by)
+    report.sections.append(code_section(error_code_table(frame, by), by))
+    blind = loc_over_blind_run(frame, "run", first, options.n_boot, options.seed)
+    if not blind.empty:
+        report.sections.append(
+            pair_section(
+                blind,
+                "S_loc above the blind run",
+                "Each run's S_loc minus the blind planner's on their common episodes (what the "
+                "images add over guessing the likeliest direction), task-clustered interval.",
+            )
+        )
+    if options.paired is not None:
+        reference = options.paired.split("/") if len(by) > 1 else options.paired
+        ok = frame[frame["status"] == "ok"]
+        metrics = [*PAIRED_METRICS]
+        if "exec_success" in ok.columns and ok["exec_success"].notna().any():
+            metrics.append("exec_success")
+        pairs = paired_table(
+            frame,
+            tuple(reference) if isinstance(reference, list) else reference,
+            metrics,
+            by,
+            first,
+            options.n_boot,
+            options.seed,
+            options.level,
+        )
+        report.sections.append(
+            pair_section(
+                pairs,
+                f"Paired comparison with {options.paired}",
+                "A − B on the episodes both answered: the table's overall estimator with a "
+                "task-clustered bootstrap interval, and the exact sign test over episodes.",
+            )
+        )
+
+
+def long_with_cis(report: Report) -> pd.DataFrame:
+    """Every grouping's long summary stacked (``grouping``, ``group`` columns), with
+    ``<metric>_lo``/``_hi`` interval columns where intervals were computed."""
+    by = list(report.options.by)
+    parts = []
+    for g in report.groupings:
+        long = report.tables[g.name].rename(columns={g.column: "group"})
+        cis = report.cis.get(g.name)
+        if cis is not None and not cis.empty:
+            bounds = cis.rename(columns={g.column: "group"}).pivot_table(
+                index=[*by, "instruction", "group"],
+                columns="metric",
+                values=["lo", "hi"],
+                sort=False,
+                dropna=False,
+            )
+            bounds.columns = [f"{m}_{side}" for side, m in bounds.columns]
+            ordered = [f"{m}_{s}" for m in table_values(long) for s in ("lo", "hi")]
+            bounds = bounds.reindex(columns=[c for c in ordered if c in bounds.columns])
+            long = long.merge(bounds.reset_index(), on=[*by, "instruction", "group"], how="left")
+        parts.append(long.assign(grouping=g.name))
+    out = pd.concat(parts, ignore_index=True)
+    return out[["grouping", *[c for c in out.columns if c != "grouping"]]]
+
+
+def render_tables(report: Report) -> str | bytes:
+    """The tables in ``options.format`` (not ``terminal``: the CLI prints rich tables)."""
+    options, by = report.options, list(report.options.by)
+    fmt = options.format
+    if fmt == "csv":
+        return str(long_with_cis(report).to_csv(index=False, float_format="%.4f"))
+    if fmt == "parquet":
+        return bytes(long_with_cis(report).to_parquet(index=False))
+    if fmt == "latex":
+        floats = [
+            summary_latex(report.tables[g.name], by, g, label=f"tab:vlm_planning_{g.name}")
+            for g in report.groupings
+        ]
+        text = "\n".join(floats)
+        return latex_document(text) if options.standalone else text
+    parts = ["# vlm-bench report\n"]
+    for g in report.groupings:
+        title = "Our four suites" if g.name == "suites" else "The paper's three columns"
+        parts.append(f"## {title}\n\n" + summary_markdown(report.tables[g.name], by, g))
+    for section in report.sections:
+        parts.append(f"## {section.title}\n\n" + frame_markdown(section.frame, section.numeric))
+        parts.append(f"{section.caption}\n")
+    return "\n".join(parts)
+
+
+def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Path]:
+    """Write the files the options ask for; returns their paths.
+
+    Args:
+        report: From :func:`build_report`.
+        tables: The rendered tables for ``options.out`` (None: not written here).
+    """
+    options = report.options
+    written: list[Path] = []
+    if options.out is not None and tables is not None:
+        if isinstance(tables, bytes):
+            options.out.write_bytes(tables)
+        else:
+            write_text_atomic(options.out, tables)
+        written.append(options.out)
+    if options.episodes is not None:
+        episodes = report.frame
+        if options.episodes.suffix == ".parquet":
+            episodes.to_parquet(options.episodes, index=False)
+        else:
+            episodes.to_csv(options.episodes, index=False)
+        written.append(options.episodes)
+    if options.plots is not None:
+        from vlm_bench.report.plots import write_plots
+
+        written.extend(write_plots(report, options.plots))
+    if options.gallery is not None:
+        from vlm_bench.report.gallery import write_galleries
+
+        written.extend(write_galleries(report.frame, options.gallery, options))
+    return written
+
+
+def make_report(options: ReportOptions) -> tuple[Report, list[Path]]:
+    """Build the report and write its files (``options.out`` gets the formatted tables)."""
+    report = build_report(options)
+    tables = render_tables(report) if options.out is not None else None
+    return report, write_outputs(report, tables)

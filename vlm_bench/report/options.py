@@ -1,0 +1,83 @@
+"""What a report shows and where it goes: :class:`ReportOptions`, validated in one place."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import Field, ValidationError, model_validator
+
+from vlm_bench.errors import ConfigError
+from vlm_bench.types.world import Frozen
+
+ReportFormat = Literal["terminal", "markdown", "csv", "parquet", "latex"]
+FORMATS: tuple[ReportFormat, ...] = ("terminal", "markdown", "csv", "parquet", "latex")
+GroupingChoice = Literal["suites", "paper", "both"]
+GROUPING_CHOICES: tuple[GroupingChoice, ...] = ("suites", "paper", "both")
+SortChoice = Literal["given", "total"]
+SORT_CHOICES: tuple[SortChoice, ...] = ("given", "total")
+
+
+class ReportOptions(Frozen):
+    """Options of ``vlm-bench report`` (and :func:`vlm_bench.report.make_report`)."""
+
+    runs: tuple[str, ...] = Field(min_length=1, description="Run folders or glob patterns.")
+    by: tuple[str, ...] = Field(
+        default=("model",), min_length=1, description="Episode column(s) naming a table row."
+    )
+    grouping: GroupingChoice = Field(
+        default="both", description="Column groups: our suites, the paper's columns, or both."
+    )
+    format: ReportFormat = Field(default="terminal", description="Output format of the tables.")
+    out: Path | None = Field(default=None, description="Write the tables here (else stdout).")
+    standalone: bool = Field(default=False, description="LaTeX: a whole document, not a float.")
+    sort: SortChoice = Field(
+        default="given", description="Row order: as given, or by overall Tot (the paper's)."
+    )
+    stats: bool = Field(
+        default=True, description="Intervals, parse tiers, error codes, blind floor."
+    )
+    paired: str | None = Field(
+        default=None, description="Compare every other row system with this one."
+    )
+    episodes: Path | None = Field(
+        default=None, description="Also write the per-episode frame (.csv or .parquet)."
+    )
+    plots: Path | None = Field(default=None, description="Write PNG plots into this folder.")
+    gallery: Path | None = Field(
+        default=None, description="Write an HTML gallery per run into this folder."
+    )
+    inline_images: bool = Field(
+        default=False, description="Gallery: images inside the HTML (else files beside it)."
+    )
+    render_missing: bool = Field(
+        default=True, description="Gallery: render views missing from the snapshot cache."
+    )
+    n_boot: int = Field(default=2000, ge=100, le=100_000, description="Bootstrap replicates.")
+    seed: int = Field(default=0, ge=0, description="Bootstrap seed.")
+    level: float = Field(default=0.95, gt=0.5, lt=1.0, description="Interval coverage.")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> ReportOptions:
+        if self.format == "parquet" and self.out is None:
+            raise ValueError("--format parquet writes a binary file: give --out FILE")
+        if self.standalone and self.format != "latex":
+            raise ValueError("--standalone applies to --format latex only")
+        if self.episodes is not None and self.episodes.suffix not in (".csv", ".parquet"):
+            raise ValueError("--episodes must end in .csv or .parquet")
+        return self
+
+
+def report_options(**fields: Any) -> ReportOptions:
+    """Build :class:`ReportOptions`, turning validation errors into a one-line ConfigError.
+
+    Raises:
+        ConfigError: Names the first invalid option and why (with the valid choices).
+    """
+    try:
+        return ReportOptions(**fields)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(p) for p in err["loc"])
+        msg = str(err["msg"]).removeprefix("Value error, ")
+        raise ConfigError(f"invalid report option {where}: {msg}" if where else msg) from None

@@ -1,0 +1,131 @@
+"""The statistics of a report as display tables: intervals, parse tiers, error codes, pairs."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
+
+from vlm_bench.report.groups import OVERALL, Grouping
+from vlm_bench.report.summary import BOTH, By, by_columns, system_order
+from vlm_bench.report.tables import HEADERS, system_headers
+from vlm_bench.report.text import p_value, with_ci
+
+
+@dataclass(frozen=True)
+class Section:
+    """One display table: title, caption and formatted cells."""
+
+    title: str
+    caption: str
+    frame: pd.DataFrame
+    numeric: tuple[str, ...] = ()
+    narrow: pd.DataFrame | None = None
+    """The same content in fewer columns, for terminals the wide form does not fit."""
+
+
+def _label(keys: list[str], row: dict[str, object]) -> dict[str, str]:
+    return {h: str(row[k]) for h, k in zip(system_headers(keys), keys, strict=True)}
+
+
+def ci_section(
+    cis: pd.DataFrame, by: By, grouping: Grouping, n_boot: int, seed: int, level: float
+) -> Section:
+    """Overall values with their intervals, one row per system (``both``, or its instruction)."""
+    keys = by_columns(by)
+    overall = cis[cis[grouping.column] == OVERALL]
+    metrics = list(dict.fromkeys(overall["metric"]))
+    rows, narrow = [], []
+    for system in system_order(overall, keys):
+        mine = overall[(overall[keys] == pd.Series(system, index=keys)).all(axis=1)]
+        variants = list(dict.fromkeys(mine["instruction"]))
+        for instruction in [BOTH] if BOTH in variants else variants:
+            cells = mine[mine["instruction"] == instruction].set_index("metric")
+            first = cells.iloc[0]
+            label = {**_label(keys, dict(zip(keys, system, strict=True))), "Instr.": instruction}
+            row: dict[str, object] = dict(label)
+            for m in metrics:
+                c = cells.loc[m] if m in cells.index else None
+                row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"])
+                if c is not None:
+                    narrow.append({**label, "metric": HEADERS[m], "value [CI]": row[HEADERS[m]]})
+            row["n"], row["tasks"] = int(first["n"]), int(first["n_tasks"])
+            rows.append(row)
+    frame = pd.DataFrame(rows)
+    caption = (
+        f"{round(level * 100)} % bootstrap intervals over tasks (resampled within each "
+        f"{'suite' if grouping.name == 'suites' else 'paper column'}, {n_boot} replicates, "
+        f"seed {seed}); Overall = mean of the groups; no interval where a group has one task."
+    )
+    numeric = tuple(c for c in frame.columns if c not in ("Instr.", *system_headers(keys)))
+    return Section(
+        "Overall with confidence intervals",
+        caption,
+        frame,
+        numeric,
+        narrow=pd.DataFrame(narrow),
+    )
+
+
+def tier_section(tiers: pd.DataFrame, by: By) -> Section:
+    """Parse-tier rates per system."""
+    keys = by_columns(by)
+    rows = [
+        {
+            **_label(keys, r),
+            "valid %": f"{r['valid']:.1f}",
+            "repaired %": f"{r['repaired']:.1f}",
+            "invalid %": f"{r['invalid']:.1f}",
+            "n": r["n"],
+            "backend errors": r["n_error"],
+        }
+        for r in tiers.to_dict("records")
+    ]
+    frame = pd.DataFrame(rows)
+    caption = (
+        "Share of answered episodes whose output parsed as valid JSON, needed repair, "
+        "or held no plan."
+    )
+    return Section(
+        "Parse tiers", caption, frame, ("valid %", "repaired %", "invalid %", "n", "backend errors")
+    )
+
+
+def code_section(table: pd.DataFrame, by: By) -> Section:
+    """Error-code shares, one row per code and one column per system (fits narrow screens)."""
+    keys = by_columns(by)
+    codes = [c for c in table.columns if c not in keys]
+    names = ["/".join(str(r[k]) for k in keys) for r in table.to_dict("records")]
+    rows = [
+        {"code": code, **{n: f"{v:.1f}" for n, v in zip(names, table[code], strict=True)}}
+        for code in codes
+    ]
+    frame = pd.DataFrame(rows, columns=["code", *names])
+    caption = "Percent of answered episodes with each error tag (parse codes, planning errors)."
+    return Section("Error codes", caption, frame, tuple(names))
+
+
+def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
+    """Paired comparisons (:func:`vlm_bench.report.paired.paired_table`) as a display table;
+    metrics with no common episode (a run that executes nothing) are left out, and so is the
+    B column when every row has the same B (the title names it)."""
+    rows = [
+        {
+            "A": r["a"],
+            "B": r["b"],
+            "metric": HEADERS.get(r["metric"], r["metric"]),
+            "A − B": f"{r['diff']:.1f}",
+            "95 % CI": "–" if r["lo"] != r["lo"] else f"[{r['lo']:.1f}, {r['hi']:.1f}]",
+            "n": r["n"],
+            "tasks": r["n_tasks"],
+            "A>B/A<B/=": f"{r['n_better']}/{r['n_worse']}/{r['n_tied']}",
+            "sign p": p_value(r["p_sign"]),
+        }
+        for r in pairs.to_dict("records")
+        if r["n"] > 0
+    ]
+    frame = pd.DataFrame(rows)
+    if not frame.empty and frame["B"].nunique() == 1:
+        frame = frame.drop(columns="B")
+    numeric = ("A − B", "95 % CI", "n", "tasks", "A>B/A<B/=", "sign p")
+    return Section(title, caption, frame, numeric)
