@@ -3,8 +3,9 @@
 Rows are system × instruction (Exp./Imp.); each column group has Plan, Loc, Obj, Skill, Tot,
 Succ (and Exec, Task when plans were executed); the Overall group spans a system's two
 instruction rows with the ``both`` values, as the paper's "Overall Average" does. The best value
-of each column is bold. The fragment needs only ``booktabs`` and ``graphicx``: cells spanning two
-rows are lowered with ``\\raisebox`` instead of ``multirow``, which minimal TeX installations lack.
+of each column is bold (none where every row ties). The fragment needs only ``booktabs`` and
+``graphicx``: cells spanning two rows are lowered with ``\\raisebox`` instead of ``multirow``,
+which minimal TeX installations lack.
 """
 
 from __future__ import annotations
@@ -37,8 +38,9 @@ def _metrics(long: pd.DataFrame) -> list[str]:
 
 
 def _best(values: Sequence[float]) -> float:
-    finite = [v for v in values if not math.isnan(v)]
-    return max(finite) if finite else math.nan
+    """The column's best (largest) value; NaN when there is no best (all equal, or one row)."""
+    finite = [round(v, 1) for v in values if not math.isnan(v)]
+    return max(finite) if len(set(finite)) > 1 else math.nan
 
 
 def _cell(value: float, best: float) -> str:
