@@ -87,7 +87,11 @@ def resolve_runs(patterns: Iterable[str | Path]) -> list[Path]:
             if not path.is_dir():
                 raise ConfigError(f"run folder {text!r} does not exist")
             if not RunPaths(path).manifest.exists():
-                raise ConfigError(f"{text!r} is not a vlm-bench run folder (no manifest.json)")
+                inside = any(RunPaths(p).manifest.exists() for p in path.iterdir() if p.is_dir())
+                hint = f"; for the runs inside it give '{path / '*'}'" if inside else ""
+                raise ConfigError(
+                    f"{text!r} is not a vlm-bench run folder (no manifest.json){hint}"
+                )
             found = [path]
         out.extend(p for p in found if p.resolve() not in {q.resolve() for q in out})
     if not out:
