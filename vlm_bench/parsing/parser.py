@@ -16,7 +16,7 @@ from vlm_bench.types.parse import ParseCode, ParseResult
 
 @lru_cache(maxsize=256)
 def _schema(object_ids: tuple[str, ...] | None) -> dict[str, Any]:
-    return plan_json_schema(object_ids)
+    return plan_json_schema(object_ids, max_steps=None)  # the tier judges form, not length
 
 
 def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResult:

@@ -16,6 +16,9 @@ from vlm_bench.errors import DataFileError
 from vlm_bench.types.skill import SkillField, SkillSpec
 
 SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
+MAX_PLAN_STEPS = 20
+"""Most steps a plan may have: over twice the longest GT plan. The bound lets a grammar-
+constrained decoder close the array instead of adding steps until the token budget ends."""
 
 
 def _field_schema(fld: SkillField, object_ids: Sequence[str] | None) -> dict[str, Any]:
@@ -81,18 +84,22 @@ def step_json_schema(agent: str, object_ids: Sequence[str] | None = None) -> dic
     }
 
 
-def plan_json_schema(object_ids: Sequence[str] | None = None) -> dict[str, Any]:
+def plan_json_schema(
+    object_ids: Sequence[str] | None = None, *, max_steps: int | None = MAX_PLAN_STEPS
+) -> dict[str, Any]:
     """JSON Schema of a plan: a non-empty array of steps, one variant per agent.
 
     Args:
         object_ids: The scene's object (and part) ids; when given, ``object``/``target`` must be
             one of them.
+        max_steps: ``maxItems`` of the array (None: unbounded). Constrained decoding needs the
+            bound; the parser's ``valid`` tier judges form, not length, and leaves it out.
 
     Returns:
         A JSON Schema (draft 2020-12) as a dict, fit for constrained decoding and validation.
     """
     agents = list(dict.fromkeys(s.agent for s in skills().values()))
-    return {
+    schema: dict[str, Any] = {
         "$schema": SCHEMA_DIALECT,
         "title": "Plan",
         "description": "Steps in execution order.",
@@ -100,3 +107,6 @@ def plan_json_schema(object_ids: Sequence[str] | None = None) -> dict[str, Any]:
         "minItems": 1,
         "items": {"anyOf": [step_json_schema(agent, object_ids) for agent in agents]},
     }
+    if max_steps is not None:
+        schema["maxItems"] = max_steps
+    return schema

@@ -66,6 +66,9 @@ def schema_violations(schema: Mapping[str, Any], value: Any, path: str = "$") ->
         elif key == "minItems":
             if isinstance(value, list) and len(value) < rule:
                 out.append(f"{path}: fewer than {rule} items")
+        elif key == "maxItems":
+            if isinstance(value, list) and len(value) > rule:
+                out.append(f"{path}: more than {rule} items")
         elif key == "minimum":
             if _is_number(value) and value < rule:
                 out.append(f"{path}: below {rule}")
