@@ -17,6 +17,7 @@ from PIL import Image  # noqa: E402
 
 from vlm_bench.backends import resolve_backend  # noqa: E402
 from vlm_bench.backends.hf import HfBackend, hf_messages  # noqa: E402
+from vlm_bench.errors import ConfigError  # noqa: E402
 from vlm_bench.types.generation import (  # noqa: E402
     GenerationConfig,
     GenerationRequest,
@@ -127,9 +128,13 @@ def _build_tiny_llava(out: Path) -> Path:
 
 
 @pytest.fixture(scope="module")
-def backend(tmp_path_factory: pytest.TempPathFactory) -> HfBackend:
-    path = _build_tiny_llava(tmp_path_factory.mktemp("tiny-llava"))
-    built = resolve_backend(str(path), {})  # a local path selects hf
+def llava_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return _build_tiny_llava(tmp_path_factory.mktemp("tiny-llava"))
+
+
+@pytest.fixture(scope="module")
+def backend(llava_dir: Path) -> HfBackend:
+    built = resolve_backend(str(llava_dir), {})  # a local path selects hf
     assert isinstance(built, HfBackend)
     return built
 
@@ -236,3 +241,73 @@ def test_constrained_decoding_follows_the_schema(backend: HfBackend) -> None:
         assert result.error is None and result.finish_reason == "stop", result
         [step] = json.loads(result.text)
         assert step["tasktype"] == "UAV" and step["direction"] in directions
+
+
+def test_each_result_gets_its_share_of_the_batch_time(backend: HfBackend) -> None:
+    import time
+
+    requests = [_request(str(i), 1, f"instruction number {i}") for i in range(4)]
+    start = time.perf_counter()
+    results = backend.generate(requests, GenerationConfig(max_new_tokens=4, batch_size=4))
+    wall = time.perf_counter() - start
+    assert sum(r.latency_s for r in results) <= wall  # was 4 x the batch time
+    batch = results[0].batch_latency_s
+    assert batch is not None and all(r.batch_latency_s == batch for r in results)
+    assert sum(r.latency_s for r in results) == pytest.approx(batch)
+
+
+def test_the_checkpoints_generation_config_does_not_decode(
+    backend: HfBackend, llava_dir: Path, tmp_path: Path
+) -> None:
+    """A checkpoint whose generation_config penalises repeats (Qwen2.5-VL ships 1.05) decodes
+    exactly as the same weights without it: the run's settings are the only ones."""
+    import shutil
+
+    shutil.copytree(llava_dir, tmp_path / "penalised")
+    gen_file = tmp_path / "penalised" / "generation_config.json"
+    gen = json.loads(gen_file.read_text())
+    gen.update(repetition_penalty=50.0, no_repeat_ngram_size=1, top_k=1, do_sample=True)
+    gen_file.write_text(json.dumps(gen))
+    penalised = resolve_backend(str(tmp_path / "penalised"), {})
+    assert isinstance(penalised, HfBackend)
+    requests = [_request(str(i), 1, f"pick cube {i}") for i in range(3)]
+    config = GenerationConfig(max_new_tokens=24, batch_size=3)
+    plain_texts = [r.text for r in backend.generate(requests, config)]
+    tokens = [backend.tokenizer.encode(t, add_special_tokens=False) for t in plain_texts]
+    assert any(len(set(t)) < len(t) for t in tokens)  # greedy repeats: a penalty would show
+    assert [r.text for r in penalised.generate(requests, config)] == plain_texts
+    assert penalised.checkpoint_generation["repetition_penalty"] == 50.0  # and it is logged
+
+
+def test_an_explicit_repetition_penalty_applies(backend: HfBackend) -> None:
+    requests = [_request(str(i), 1, f"pick cube {i}") for i in range(3)]
+    plain = backend.generate(requests, GenerationConfig(max_new_tokens=24, batch_size=3))
+    strict = backend.generate(
+        requests, GenerationConfig(max_new_tokens=24, batch_size=3, repetition_penalty=50.0)
+    )
+    assert [r.text for r in plain] != [r.text for r in strict]
+
+
+def test_a_pixel_limit_on_a_fixed_size_processor_is_an_error(llava_dir: Path) -> None:
+    with pytest.raises(ConfigError, match=r"-M max_pixels: .*CLIPImageProcessor.*no pixel or tile"):
+        resolve_backend(str(llava_dir), {"max_pixels": "50176"})
+
+
+def test_constrained_plans_close_within_the_budget(backend: HfBackend) -> None:
+    """The plan schema bounds the steps, so the grammar lets the array close: no output is cut
+    off by max_new_tokens (without maxItems a random model adds steps until it is)."""
+    pytest.importorskip("xgrammar")
+    from vlm_bench.parsing import parse_plan, plan_json_schema
+
+    ids = ["gray_cube", "yellow_basket", "table"]
+    schema = plan_json_schema(ids)
+    requests = [
+        _request(str(i), 1, f"put the cube in the basket {i}").model_copy(
+            update={"json_schema": schema}
+        )
+        for i in range(2)
+    ]
+    config = GenerationConfig(max_new_tokens=1500, constrained=True, batch_size=2)
+    for result in backend.generate(requests, config):
+        assert result.finish_reason == "stop", result
+        assert parse_plan(result.text, ids).tier == "valid"

@@ -1,4 +1,9 @@
-"""The openai backend against a fake OpenAI-compatible server on 127.0.0.1 (loopback only)."""
+"""The openai backend against a fake OpenAI-compatible server on 127.0.0.1 (loopback only).
+
+The fake answers ``GET /models`` (the load-time check) and, when ``enforces_schema`` is set,
+follows ``response_format`` for the structured-outputs probe, as vLLM or SGLang would; with it
+unset it ignores the field, as ``transformers serve`` does.
+"""
 
 from __future__ import annotations
 
@@ -15,7 +20,7 @@ import pytest
 pytest.importorskip("openai")
 
 from vlm_bench.backends import resolve_backend
-from vlm_bench.errors import ConfigError
+from vlm_bench.errors import ConfigError, VlmBenchError
 from vlm_bench.types.generation import (
     GenerationConfig,
     GenerationRequest,
@@ -36,12 +41,20 @@ class FakeServer:
         self.status = 500
         self.sleep_s = 0.0
         self.calls = 0
+        self.model_lists = 0
+        self.enforces_schema = True
         self.lock = threading.Lock()
         server = self
 
         class Handler(BaseHTTPRequestHandler):
             def log_message(self, *args: object) -> None:  # keep test output quiet
                 pass
+
+            def do_GET(self) -> None:
+                with server.lock:
+                    server.model_lists += 1
+                model = {"id": "m", "object": "model", "created": 0, "owned_by": "fake"}
+                self._reply(200, {"object": "list", "data": [model]})
 
             def do_POST(self) -> None:
                 body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
@@ -55,8 +68,12 @@ class FakeServer:
                     self._reply(server.status, {"error": {"message": "boom", "type": "server"}})
                     return
                 text = json.dumps([{"subtask": 0, "tasktype": "UAV", "direction": "left"}])
+                schema = body.get("response_format", {}).get("json_schema", {}).get("schema", {})
+                if server.enforces_schema and "probe" in schema.get("properties", {}):
+                    text = json.dumps({"probe": schema["properties"]["probe"]["enum"][0]})
+                content = body["messages"][-1]["content"]
                 n_images = sum(
-                    1 for part in body["messages"][-1]["content"] if part["type"] == "image_url"
+                    1 for part in content if isinstance(part, dict) and part["type"] == "image_url"
                 )
                 self._reply(
                     200,
@@ -158,7 +175,8 @@ def test_system_merge_sampling_and_json_schema(server: FakeServer) -> None:
     config = GenerationConfig(temperature=0.7, seed=5, constrained=True, max_new_tokens=64)
     [result] = backend.generate([_request("a", schema)], config)
     assert result.error is None
-    body = server.received[0]
+    probe, body = server.received  # the structured-outputs check, then the request
+    assert probe["response_format"]["json_schema"]["schema"]["required"] == ["probe"]
     assert [m["role"] for m in body["messages"]] == ["user"]
     assert body["messages"][0]["content"][0] == {"type": "text", "text": "You plan."}
     assert body["messages"][0]["content"][2]["image_url"]["detail"] == "low"
@@ -221,3 +239,91 @@ def test_environment_fallbacks(server: FakeServer, monkeypatch: pytest.MonkeyPat
     assert result.error is None and server.calls == 1
     with pytest.raises(ConfigError, match="needs a model name"):
         resolve_backend("openai/", {})
+
+
+def _closed_port_url() -> str:
+    import socket
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    return f"http://127.0.0.1:{port}/v1"  # nothing listens there once the socket is closed
+
+
+def test_a_down_server_is_an_error_at_load() -> None:
+    url = _closed_port_url()
+    start = time.perf_counter()
+    with pytest.raises(VlmBenchError, match=f"cannot reach .* at {url}") as info:
+        resolve_backend("openai/m", {"base_url": url})
+    assert time.perf_counter() - start < 5 and "\n" not in str(info.value)
+
+
+def test_the_load_check_can_be_turned_off() -> None:
+    backend = resolve_backend("openai/m", {"base_url": _closed_port_url(), "check_server": "0"})
+    assert backend.name == "openai"
+
+
+def test_a_server_that_stops_answering_stops_the_run(server: FakeServer) -> None:
+    backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "1", **FAST})
+    [ok] = backend.generate([_request("a")], GenerationConfig())
+    assert ok.error is None
+    server.__exit__()
+    with pytest.raises(VlmBenchError, match=r"stopped answering.*re-run to resume"):
+        backend.generate([_request("b"), _request("c")], GenerationConfig())
+
+
+def test_some_failed_requests_are_recorded_not_raised(server: FakeServer) -> None:
+    server.fail_first = 1  # 500 on the first call, then answers
+    backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "0", **FAST})
+    results = backend.generate([_request("a"), _request("b")], GenerationConfig())
+    assert sorted(r.error is None for r in results) == [False, True]
+
+
+def test_constrained_is_refused_where_the_server_ignores_the_schema(server: FakeServer) -> None:
+    server.enforces_schema = False  # as transformers serve: "Ignoring unsupported fields"
+    backend = resolve_backend("openai/m", {"base_url": server.url})
+    config = GenerationConfig(constrained=True)
+    with pytest.raises(ConfigError, match="does not enforce response_format") as info:
+        backend.generate([_request("a", {"type": "array"})], config)
+    assert "\n" not in str(info.value)
+    assert len(server.received) == 1  # the probe alone: no episode was sent unconstrained
+
+
+def test_constrained_is_refused_where_the_server_rejects_the_schema(server: FakeServer) -> None:
+    server.fail_first, server.status = 100, 400
+    backend = resolve_backend("openai/m", {"base_url": server.url})
+    with pytest.raises(ConfigError, match="rejects response_format json_schema"):
+        backend.generate([_request("a", {"type": "array"})], GenerationConfig(constrained=True))
+
+
+def test_constrained_checks_the_server_once(server: FakeServer) -> None:
+    backend = resolve_backend("openai/m", {"base_url": server.url})
+    config = GenerationConfig(constrained=True)
+    for rid in ("a", "b"):
+        [result] = backend.generate([_request(rid, {"type": "array"})], config)
+        assert result.error is None
+    probes = [b for b in server.received if "probe" in json.dumps(b.get("response_format", {}))]
+    assert len(probes) == 1
+
+
+def test_each_result_gets_its_share_of_the_call_time(server: FakeServer) -> None:
+    server.sleep_s = 0.3
+    backend = resolve_backend("openai/m", {"base_url": server.url, "concurrency": "4"})
+    start = time.perf_counter()
+    results = backend.generate([_request(f"r{i}") for i in range(4)], GenerationConfig())
+    wall = time.perf_counter() - start
+    assert sum(r.latency_s for r in results) <= wall  # was 4 x 0.3 s
+    batch = results[0].batch_latency_s
+    assert batch is not None and 0.3 <= batch <= wall
+    assert sum(r.latency_s for r in results) == pytest.approx(batch)
+
+
+def test_settings_beyond_the_openai_api_go_in_the_body(server: FakeServer) -> None:
+    backend = resolve_backend("openai/m", {"base_url": server.url})
+    backend.generate([_request("a")], GenerationConfig())
+    backend.generate([_request("b")], GenerationConfig(repetition_penalty=1.05))
+    backend.generate([_request("c")], GenerationConfig(temperature=0.5, top_k=20))
+    plain, penalised, sampled = server.received
+    assert "repetition_penalty" not in plain and "top_k" not in plain
+    assert penalised["repetition_penalty"] == 1.05 and "top_k" not in penalised
+    assert sampled["top_k"] == 20

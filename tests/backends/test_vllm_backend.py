@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import json
 import sys
+import time
 import types
+from pathlib import Path
 from typing import Any
 
 import pytest
 
 from vlm_bench.backends import resolve_backend
+from vlm_bench.backends.hf_decoding import hf_generate_kwargs
 from vlm_bench.backends.messages import data_url, openai_messages
-from vlm_bench.backends.vllm_backend import VllmBackend, sampling_kwargs
+from vlm_bench.backends.vllm_backend import DEFAULT_MAX_MODEL_LEN, VllmBackend, sampling_kwargs
+from vlm_bench.errors import ConfigError
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, ImagePart
 from vlm_bench.types.prompt import TextPart
 
@@ -74,13 +79,41 @@ def test_openai_messages_put_images_in_order_as_data_urls() -> None:
     assert merged["role"] == "user" and merged["content"][0] == {"type": "text", "text": "sys"}
 
 
-def test_sampling_kwargs() -> None:
-    assert sampling_kwargs(GenerationConfig()) == {
-        "max_tokens": 512,
-        "temperature": 0.0,
-        "top_p": 1.0,
-    }
-    assert sampling_kwargs(GenerationConfig(temperature=0.5, seed=3))["seed"] == 3
+CONFIGS = [
+    GenerationConfig(),
+    GenerationConfig(repetition_penalty=1.05, max_new_tokens=64),
+    GenerationConfig(temperature=0.7, top_p=0.8, top_k=20, seed=3, repetition_penalty=1.1),
+]
+HF_TO_VLLM = {
+    "max_new_tokens": "max_tokens",
+    "repetition_penalty": "repetition_penalty",
+    "temperature": "temperature",
+    "top_p": "top_p",
+    "top_k": "top_k",
+}
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=["greedy", "greedy-penalty", "sampled"])
+def test_hf_and_vllm_decode_with_the_same_settings(config: GenerationConfig) -> None:
+    """Every decoding setting reaches both backends, with the same value (greedy: vLLM's
+    temperature 0 and no top-p/top-k limit is hf's do_sample=False)."""
+    hf, vllm = hf_generate_kwargs(config), sampling_kwargs(config)
+    assert set(config.decoding()) <= {*HF_TO_VLLM, "seed"}
+    for hf_name, vllm_name in HF_TO_VLLM.items():
+        if hf_name in config.decoding():
+            assert hf[hf_name] == vllm[vllm_name] == config.decoding()[hf_name]
+    assert hf["do_sample"] is (not config.greedy) and hf["num_beams"] == 1
+    if config.greedy:
+        assert (vllm["temperature"], vllm["top_p"], vllm["top_k"]) == (0.0, 1.0, -1)
+        assert "seed" not in vllm
+    else:
+        assert vllm["seed"] == config.seed
+
+
+def test_decoding_names_every_setting_that_shapes_tokens() -> None:
+    """A field added to GenerationConfig must be routed to the backends (or listed here)."""
+    sampled = GenerationConfig(temperature=0.5).decoding()
+    assert set(GenerationConfig.model_fields) - set(sampled) == {"constrained", "batch_size"}
 
 
 @pytest.mark.parametrize("structured", [True, False])
@@ -104,3 +137,79 @@ def test_generate_batches_through_llm_chat(
     assert messages[0] == openai_messages(_request("0", schema))
     key = "structured_outputs" if structured else "guided_decoding"
     assert params[0].kwargs["max_tokens"] == 32 and params[0].kwargs[key].kwargs == {"json": schema}
+
+
+def test_engine_defaults_and_processor_arguments(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls: dict[str, Any] = {}
+    monkeypatch.setitem(sys.modules, "vllm", _fake_vllm(calls, structured=True))
+    resolve_backend("vllm/org/model", {})
+    assert calls["engine"]["max_model_len"] == DEFAULT_MAX_MODEL_LEN
+    assert "mm_processor_kwargs" not in calls["engine"]
+    resolve_backend(
+        "vllm/org/model",
+        {"mm_processor_kwargs": '{"max_crops": 4}', "hf_overrides": '{"architectures": ["X"]}'},
+    )
+    assert calls["engine"]["mm_processor_kwargs"] == {"max_crops": 4}
+    assert calls["engine"]["hf_overrides"] == {"architectures": ["X"]}
+    with pytest.raises(ConfigError, match=r"mm_processor_kwargs.*JSON"):
+        resolve_backend("vllm/org/model", {"mm_processor_kwargs": "max_crops=4"})
+
+
+@pytest.mark.parametrize(
+    ("model_type", "args", "expected"),
+    [
+        ("qwen2_5_vl", {"max_pixels": "200704"}, {"max_pixels": 200704}),
+        (
+            "qwen3_vl",
+            {"min_pixels": "1024", "max_pixels": "4096"},
+            {"min_pixels": 1024, "max_pixels": 4096},
+        ),
+        ("internvl_chat", {"max_tiles": "4"}, {"max_dynamic_patch": 4}),
+    ],
+)
+def test_pixel_and_tile_limits_reach_the_engine(
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    model_type: str,
+    args: dict[str, str],
+    expected: dict[str, int],
+) -> None:
+    (tmp_path / "config.json").write_text(json.dumps({"model_type": model_type}))
+    calls: dict[str, Any] = {}
+    monkeypatch.setitem(sys.modules, "vllm", _fake_vllm(calls, structured=True))
+    resolve_backend(f"vllm/{tmp_path}", args)
+    assert calls["engine"]["mm_processor_kwargs"] == expected
+
+
+@pytest.mark.parametrize(
+    ("model_type", "args"),
+    [("llava", {"max_pixels": "1000"}), ("qwen2_5_vl", {"max_tiles": "2"})],
+)
+def test_a_limit_the_model_has_not_is_an_error(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, model_type: str, args: dict[str, str]
+) -> None:
+    (tmp_path / "config.json").write_text(json.dumps({"model_type": model_type}))
+    calls: dict[str, Any] = {}
+    monkeypatch.setitem(sys.modules, "vllm", _fake_vllm(calls, structured=True))
+    with pytest.raises(ConfigError, match=f"no such limit for model type '{model_type}'"):
+        resolve_backend(f"vllm/{tmp_path}", args)
+    assert "engine" not in calls  # refused before the engine starts
+
+
+def test_each_result_gets_its_share_of_the_batch_time(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls: dict[str, Any] = {}
+    fake = _fake_vllm(calls, structured=True)
+    chat = fake.LLM.chat  # type: ignore[attr-defined]
+
+    def slow_chat(self: Any, *args: Any, **kwargs: Any) -> Any:
+        time.sleep(0.2)
+        return chat(self, *args, **kwargs)
+
+    fake.LLM.chat = slow_chat  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "vllm", fake)
+    backend = resolve_backend("vllm/org/model", {})
+    results = backend.generate([_request(str(i)) for i in range(4)], GenerationConfig(batch_size=4))
+    batch = results[0].batch_latency_s
+    assert batch is not None and batch >= 0.2
+    assert all(r.batch_latency_s == batch for r in results)
+    assert sum(r.latency_s for r in results) == pytest.approx(batch)

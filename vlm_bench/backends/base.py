@@ -107,3 +107,12 @@ def require_schemas(
                 f"backend {backend!r}: constrained decoding needs GenerationRequest.json_schema "
                 f"(request {req.id!r} has none)"
             )
+
+
+def share_wall_time(results: Sequence[GenerationResult], wall_s: float) -> list[GenerationResult]:
+    """Give each result of one call its share of the call's wall time (``latency_s``) and the
+    call's whole wall time (``batch_latency_s``), so per-episode times sum to the time spent."""
+    if not results:
+        return []
+    share = wall_s / len(results)
+    return [r.model_copy(update={"latency_s": share, "batch_latency_s": wall_s}) for r in results]

@@ -2,20 +2,26 @@
 
 Prompts go through the processor's own chat template (image parts in order, then text), in
 left-padded batches; bf16 with ``device_map="auto"`` on CUDA, float32 on CPU; greedy unless a
-temperature is set. torch and transformers are imported only when the backend is built.
+temperature is set. Decoding follows the run's :class:`GenerationConfig` alone: the checkpoint's
+``generation_config`` (Qwen2.5-VL ships ``repetition_penalty`` 1.05, others ``top_k``/``top_p``)
+is replaced at load by one that keeps only its special tokens, so hf decodes as vllm does.
+torch and transformers are imported only when the backend is built.
 """
 
 from __future__ import annotations
 
+import logging
 import time
 from collections.abc import Sequence
 from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.base import Backend, BackendArgs, require_schemas
+from vlm_bench.backends.base import Backend, BackendArgs, require_schemas, share_wall_time
 from vlm_bench.backends.hf_constrained import SchemaConstraint
-from vlm_bench.errors import MissingExtraError
+from vlm_bench.backends.hf_decoding import hf_generate_kwargs, neutral_generation_config
+from vlm_bench.backends.image_limits import ImageLimits, apply_image_limits
+from vlm_bench.errors import ConfigError, MissingExtraError
 from vlm_bench.types.generation import (
     GenerationConfig,
     GenerationRequest,
@@ -37,8 +43,24 @@ class HfArgs(BackendArgs):
     )
     revision: str | None = Field(default=None, description="Hub revision (branch, tag, commit).")
     system_role: bool = Field(default=True, description="Send a system message (else merge).")
-    min_pixels: int | None = Field(default=None, gt=0, description="Processor min_pixels (Qwen).")
-    max_pixels: int | None = Field(default=None, gt=0, description="Processor max_pixels (Qwen).")
+    min_pixels: int | None = Field(
+        default=None, gt=0, description="Fewest pixels per image (Qwen2/2.5/3-VL, GLM-4.1V)."
+    )
+    max_pixels: int | None = Field(
+        default=None, gt=0, description="Most pixels per image (Qwen2/2.5/3-VL, GLM-4.1V)."
+    )
+    max_tiles: int | None = Field(
+        default=None, gt=0, description="Most tiles per image (InternVL)."
+    )
+
+    def image_limits(self) -> ImageLimits:
+        """The pixel and tile limits given."""
+        return ImageLimits(
+            min_pixels=self.min_pixels, max_pixels=self.max_pixels, max_tiles=self.max_tiles
+        )
+
+
+_log = logging.getLogger(__name__)
 
 
 def hf_messages(
@@ -103,14 +125,8 @@ class HfBackend(Backend):
         common: dict[str, Any] = {"trust_remote_code": self.args.trust_remote_code}
         if self.args.revision:
             common["revision"] = self.args.revision
-        proc_kwargs = {
-            k: v
-            for k, v in (("min_pixels", self.args.min_pixels), ("max_pixels", self.args.max_pixels))
-            if v is not None
-        }
-        self.processor = transformers.AutoProcessor.from_pretrained(model, **common, **proc_kwargs)
-        self.tokenizer = getattr(self.processor, "tokenizer", self.processor)
-        self.tokenizer.padding_side = "left"  # generation continues at the right edge
+        processor = transformers.AutoProcessor.from_pretrained(model, **common)
+        self._limit_images(processor, model)  # before the weights load: a bad limit fails fast
         major, minor = (int(x) for x in transformers.__version__.split(".")[:2])
         dtype_key = "dtype" if (major, minor) >= (4, 56) else "torch_dtype"
         load: dict[str, Any] = {**common, dtype_key: getattr(torch, dtype)}
@@ -118,8 +134,55 @@ class HfBackend(Backend):
             load["device_map"] = self.args.device_map
         if self.args.attn_implementation:
             load["attn_implementation"] = self.args.attn_implementation
-        self.model = transformers.AutoModelForImageTextToText.from_pretrained(model, **load).eval()
+        loaded = transformers.AutoModelForImageTextToText.from_pretrained(model, **load)
+        self._adopt(processor, loaded.eval(), transformers)
+
+    @classmethod
+    def from_loaded(
+        cls, model_id: str, processor: Any, model: Any, args: HfArgs | None = None
+    ) -> HfBackend:
+        """A backend around a processor and model already in memory (same setup as a load).
+
+        Raises:
+            ConfigError: A pixel/tile limit the processor has no setting for.
+        """
+        import torch
+        import transformers
+
+        backend = cls.__new__(cls)
+        backend.model_id, backend.args, backend._torch = model_id, args or HfArgs(), torch
+        backend._limit_images(processor, model_id)
+        backend._adopt(processor, model.eval(), transformers)
+        return backend
+
+    def _adopt(self, processor: Any, model: Any, transformers: Any) -> None:
+        """Take a loaded processor and model: left padding, and the run's decoding only."""
+        self.processor = processor
+        self.tokenizer = getattr(processor, "tokenizer", processor)
+        self.tokenizer.padding_side = "left"  # generation continues at the right edge
+        self.model = model
+        neutral, dropped = neutral_generation_config(transformers, model.generation_config)
+        self.model.generation_config = neutral
+        self.checkpoint_generation = dropped  # what decoding does not take from the checkpoint
+        if dropped:
+            _log.warning(
+                "hf: %s: the checkpoint's generation_config (%s) is not used; decoding follows "
+                "the run's settings (see the manifest's config.generation)",
+                self.model_id,
+                ", ".join(f"{k}={v!r}" for k, v in sorted(dropped.items())),
+            )
         self._constraint: SchemaConstraint | None = None
+
+    def _limit_images(self, processor: Any, model: str) -> None:
+        limits = self.args.image_limits()
+        image_processor = getattr(processor, "image_processor", None)
+        if image_processor is None:
+            given = limits.given()
+            if given:
+                raise ConfigError(f"-M {sorted(given)[0]}: {model} has no image processor")
+            self.image_settings: dict[str, int] = {}
+            return
+        self.image_settings = apply_image_limits(image_processor, limits, model)
 
     def _encode(self, batch: Sequence[GenerationRequest]) -> Any:
         texts: list[str] = []
@@ -147,12 +210,8 @@ class HfBackend(Backend):
     def _gen_kwargs(
         self, batch: Sequence[GenerationRequest], config: GenerationConfig, eos: list[int]
     ) -> dict[str, Any]:
-        kwargs: dict[str, Any] = {
-            "max_new_tokens": config.max_new_tokens,
-            "do_sample": not config.greedy,
-        }
+        kwargs = hf_generate_kwargs(config)
         if not config.greedy:
-            kwargs.update(temperature=config.temperature, top_p=config.top_p)
             self._torch.manual_seed(config.seed)
         pad = self.tokenizer.pad_token_id
         kwargs["pad_token_id"] = pad if pad is not None else (eos[0] if eos else None)
@@ -171,7 +230,6 @@ class HfBackend(Backend):
         inputs = self._encode(batch)
         with self._torch.inference_mode():
             out = self.model.generate(**inputs, **self._gen_kwargs(batch, config, eos))
-        latency = time.perf_counter() - start
         prompt_len = inputs["input_ids"].shape[1]
         results: list[GenerationResult] = []
         for i, req in enumerate(batch):
@@ -182,13 +240,12 @@ class HfBackend(Backend):
                 GenerationResult(
                     id=req.id,
                     text=self.tokenizer.decode(kept, skip_special_tokens=True),
-                    latency_s=latency,
                     prompt_tokens=int(inputs["attention_mask"][i].sum()),
                     completion_tokens=len(kept),
                     finish_reason="stop" if stop is not None else "length",
                 )
             )
-        return results
+        return share_wall_time(results, time.perf_counter() - start)
 
     def _run_splitting(
         self, batch: Sequence[GenerationRequest], config: GenerationConfig

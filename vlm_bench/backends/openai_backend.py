@@ -4,9 +4,16 @@ Images go as base64 PNG data URLs. Requests run concurrently in a thread pool; c
 errors, timeouts, 408/409/429 and 5xx answers are retried with exponential backoff, then
 recorded in the result. ``openai`` is imported only when the backend is built.
 
-Constrained decoding sends ``response_format={"type": "json_schema", ...}`` with the request's
-schema as is (non-strict). vLLM, SGLang and LMDeploy accept the plan schema's array root; hosted
-APIs whose strict mode wants an object root answer 400, which is recorded per request.
+The server is checked when the backend is built (:func:`~.openai_checks.preflight`): a server
+that is down stops the run at once with the cause. A batch whose every request found no server
+(after its retries) stops the run too: finished episodes are kept, and re-running resumes.
+
+Constrained decoding first checks that the server enforces ``response_format``
+(:func:`~.openai_checks.check_structured_outputs`), then sends each request's schema as is
+(non-strict). vLLM, SGLang and LMDeploy accept the plan schema's array root; hosted APIs whose
+strict mode wants an object root answer 400, which is recorded per request. Settings the OpenAI
+API lacks (``top_k``, ``repetition_penalty``) go in the request body only when they differ from
+their neutral values, which servers such as vLLM read.
 """
 
 from __future__ import annotations
@@ -19,8 +26,14 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.base import Backend, BackendArgs, require_schemas
+from vlm_bench.backends.base import Backend, BackendArgs, require_schemas, share_wall_time
 from vlm_bench.backends.messages import openai_messages
+from vlm_bench.backends.openai_checks import (
+    ServerUnreachableError,
+    check_structured_outputs,
+    preflight,
+    server_url,
+)
 from vlm_bench.errors import ConfigError, MissingExtraError
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 
@@ -47,6 +60,12 @@ class OpenAIArgs(BackendArgs):
     )
     max_tokens_param: Literal["max_tokens", "max_completion_tokens"] = Field(
         default="max_tokens", description="Name of the length limit parameter the server takes."
+    )
+    check_server: bool = Field(
+        default=True, description="Check at load that the server answers (GET /models)."
+    )
+    check_timeout_s: float = Field(
+        default=5.0, gt=0, description="How long the load-time check waits for an answer (s)."
     )
 
 
@@ -78,6 +97,9 @@ class OpenAIBackend(Backend):
             timeout=self.args.timeout_s,
             max_retries=0,  # retries are ours (tenacity), so they are counted and bounded
         )
+        self._structured_ok = False
+        if self.args.check_server:
+            preflight(self._client, openai, self.args.check_timeout_s)
 
     @property
     def max_concurrency(self) -> int:
@@ -97,6 +119,13 @@ class OpenAIBackend(Backend):
         }
         if not config.greedy:
             params["seed"] = config.seed
+        extra: dict[str, Any] = {}  # beyond the OpenAI API: sent only when not neutral
+        if config.repetition_penalty != 1.0:
+            extra["repetition_penalty"] = config.repetition_penalty
+        if not config.greedy and config.top_k > 0:
+            extra["top_k"] = config.top_k
+        if extra:
+            params["extra_body"] = extra
         if config.constrained and request.json_schema is not None:
             params["response_format"] = {
                 "type": "json_schema",
@@ -125,40 +154,57 @@ class OpenAIBackend(Backend):
         )
         return retrying(self._client.chat.completions.create, **params)
 
-    def _one(self, request: GenerationRequest, config: GenerationConfig) -> GenerationResult:
-        start = time.perf_counter()
+    def _one(
+        self, request: GenerationRequest, config: GenerationConfig
+    ) -> tuple[GenerationResult, bool]:
+        """The request's result, and whether it failed for want of a server."""
         try:
             response = self._call(self.params(request, config))
         except self._openai.APIError as exc:
-            return GenerationResult(
-                id=request.id, error=_describe(exc), latency_s=time.perf_counter() - start
+            unreachable = isinstance(exc, self._openai.APIConnectionError) and not isinstance(
+                exc, self._openai.APITimeoutError
             )
-        latency = time.perf_counter() - start
+            return GenerationResult(id=request.id, error=_describe(exc)), unreachable
         if not response.choices:
-            return GenerationResult(
-                id=request.id, error="server returned no choices", latency_s=latency
-            )
+            return GenerationResult(id=request.id, error="server returned no choices"), False
         choice = response.choices[0]
         usage = response.usage
-        return GenerationResult(
+        result = GenerationResult(
             id=request.id,
             text=choice.message.content or "",
-            latency_s=latency,
             prompt_tokens=usage.prompt_tokens if usage else None,
             completion_tokens=usage.completion_tokens if usage else None,
             finish_reason=choice.finish_reason,
         )
+        return result, False
 
     def generate(
         self, requests: Sequence[GenerationRequest], config: GenerationConfig
     ) -> list[GenerationResult]:
-        """Send every request (``concurrency`` at a time); results in request order."""
+        """Send every request (``concurrency`` at a time); results in request order.
+
+        Raises:
+            ConfigError: ``config.constrained`` and the server does not enforce json_schema.
+            ServerUnreachableError: Every request found no server, even after its retries.
+        """
         require_schemas(self.name, requests, config)
         if not requests:
             return []
+        if config.constrained and not self._structured_ok:
+            check_structured_outputs(
+                self._client, self._openai, self.model, self.args.max_tokens_param
+            )
+            self._structured_ok = True
+        start = time.perf_counter()
         workers = min(self.args.concurrency, len(requests))
         with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="vlm-openai") as pool:
-            return list(pool.map(lambda r: self._one(r, config), requests))
+            answers = list(pool.map(lambda r: self._one(r, config), requests))
+        if all(unreachable for _, unreachable in answers):
+            raise ServerUnreachableError(
+                f"the server at {server_url(self._client)} stopped answering "
+                f"({answers[0][0].error}); finished episodes are saved, re-run to resume"
+            )
+        return share_wall_time([r for r, _ in answers], time.perf_counter() - start)
 
     def close(self) -> None:
         """Close the HTTP client."""

@@ -64,7 +64,8 @@ def scored_record(
         object_order=info.object_order, first_target_visible=info.first_target_visible,
         raw_output=response.text, parse=ev.parse, plan=ev.plan,
         gt_plan=plan_to_json(episode.gt_plan), scores=ev.scores, error_tags=ev.error_tags,
-        latency_s=response.latency_s, prompt_tokens=response.prompt_tokens,
+        latency_s=response.latency_s, batch_latency_s=response.batch_latency_s,
+        prompt_tokens=response.prompt_tokens,
         completion_tokens=response.completion_tokens, finish_reason=response.finish_reason,
         cached=cached, status="ok",
     )

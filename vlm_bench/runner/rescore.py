@@ -44,6 +44,7 @@ def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
         prompt_hash=record.prompt_hash,
         text=record.raw_output,
         latency_s=record.latency_s,
+        batch_latency_s=record.batch_latency_s,
         prompt_tokens=record.prompt_tokens,
         completion_tokens=record.completion_tokens,
         finish_reason=record.finish_reason,

@@ -65,11 +65,27 @@ class GenerationRequest(Frozen):
 
 
 class GenerationConfig(Frozen):
-    """Decoding settings shared by every backend; part of the run manifest."""
+    """Decoding settings shared by every backend; part of the run manifest.
+
+    Every setting that changes what a model generates is a field here, so the manifest states
+    the whole decoding: model backends apply these and nothing from a checkpoint's own
+    ``generation_config`` (whose end-of-sequence tokens alone are kept).
+    """
 
     max_new_tokens: int = Field(default=512, ge=1, description="Most tokens generated.")
-    temperature: float = Field(default=0.0, ge=0.0, description="0 = greedy decoding.")
+    temperature: float = Field(
+        default=0.0, ge=0.0, allow_inf_nan=False, description="0 = greedy decoding."
+    )
     top_p: float = Field(default=1.0, gt=0.0, le=1.0, description="Nucleus sampling mass.")
+    top_k: int = Field(
+        default=0, ge=0, description="Sample from the k likeliest tokens only; 0 = no limit."
+    )
+    repetition_penalty: float = Field(
+        default=1.0,
+        gt=0.0,
+        allow_inf_nan=False,
+        description="Divides the logits of tokens already in the prompt or output; 1 = none.",
+    )
     seed: int = Field(default=0, ge=0, description="Sampling seed (where the backend has one).")
     constrained: bool = Field(
         default=False, description="Constrain decoding to the request's JSON Schema."
@@ -81,6 +97,21 @@ class GenerationConfig(Frozen):
         """True when decoding is greedy (temperature 0)."""
         return self.temperature == 0.0
 
+    def decoding(self) -> dict[str, float | int]:
+        """The settings that shape each token, by their names here: ``max_new_tokens``,
+        ``repetition_penalty`` always; ``temperature``, ``top_p``, ``top_k`` and ``seed`` only
+        when sampling (greedy decoding ignores them). Each model backend translates exactly
+        these to its own parameter names."""
+        out: dict[str, float | int] = {
+            "max_new_tokens": self.max_new_tokens,
+            "repetition_penalty": self.repetition_penalty,
+        }
+        if not self.greedy:
+            out.update(
+                temperature=self.temperature, top_p=self.top_p, top_k=self.top_k, seed=self.seed
+            )
+        return out
+
 
 class GenerationResult(Frozen):
     """A backend's answer to one request. Failures are recorded here, never raised."""
@@ -90,7 +121,15 @@ class GenerationResult(Frozen):
     error: str | None = Field(
         default=None, description="Server error, timeout, or other failure to generate; None = ok."
     )
-    latency_s: float = Field(default=0.0, ge=0.0, description="Wall time of the answering call.")
+    latency_s: float = Field(
+        default=0.0,
+        ge=0.0,
+        description="This request's share of the wall time of the call that answered it (the "
+        "call's time divided by its requests): summed over a run it gives the generation time.",
+    )
+    batch_latency_s: float | None = Field(
+        default=None, ge=0.0, description="Wall time of the whole call (batch) that answered it."
+    )
     prompt_tokens: int | None = Field(default=None, ge=0, description="Prompt tokens, if known.")
     completion_tokens: int | None = Field(default=None, ge=0, description="Generated tokens.")
     finish_reason: str | None = Field(

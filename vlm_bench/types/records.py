@@ -24,7 +24,7 @@ RecordStatus = Literal["ok", "error"]
 """``ok``: the model answered and the answer was scored (whatever its quality);
 ``error``: the backend failed to answer (server error, timeout); a resume retries it."""
 
-TIMING_FIELDS = frozenset({"latency_s", "created"})
+TIMING_FIELDS = frozenset({"latency_s", "batch_latency_s", "created"})
 """Fields that differ between two otherwise identical runs (and ``execution.wall_time_s``)."""
 
 
@@ -74,7 +74,12 @@ class EpisodeRecord(Tolerant):
     error_tags: tuple[str, ...] = Field(
         default=(), description="Parse codes then planning error types, duplicates removed."
     )
-    latency_s: float = Field(default=0.0, ge=0, description="Backend wall time (s).")
+    latency_s: float = Field(
+        default=0.0, ge=0, description="This episode's share of its batch's backend time (s)."
+    )
+    batch_latency_s: float | None = Field(
+        default=None, ge=0, description="Backend wall time of the whole batch it was in (s)."
+    )
     prompt_tokens: int | None = Field(default=None, description="Prompt tokens, if known.")
     completion_tokens: int | None = Field(default=None, description="Generated tokens.")
     finish_reason: str | None = Field(default=None, description="Why generation stopped.")
@@ -106,7 +111,12 @@ class CachedResponse(Tolerant):
     key: str = Field(description="Episode key task_id/seed/variant.")
     prompt_hash: str = Field(description="Hash of the prompt that produced the answer.")
     text: str = Field(description="The model's text, verbatim.")
-    latency_s: float = Field(default=0.0, ge=0, description="Backend wall time (s).")
+    latency_s: float = Field(
+        default=0.0, ge=0, description="This answer's share of its batch's backend time (s)."
+    )
+    batch_latency_s: float | None = Field(
+        default=None, ge=0, description="Backend wall time of the whole batch it was in (s)."
+    )
     prompt_tokens: int | None = Field(default=None, description="Prompt tokens, if known.")
     completion_tokens: int | None = Field(default=None, description="Generated tokens.")
     finish_reason: str | None = Field(default=None, description="Why generation stopped.")

@@ -33,12 +33,25 @@ RUN_SCHEMA_VERSION = 1
 """Version of the manifest layout written by this release."""
 
 OPERATIONAL_BACKEND_ARGS = frozenset(
-    {"concurrency", "timeout", "max_retries", "retries", "workers", "device", "device_map"}
+    {
+        "concurrency",
+        "timeout",
+        "max_retries",
+        "retries",
+        "workers",
+        "device",
+        "device_map",
+        "check_server",
+        "check_timeout_s",
+    }
 )
 """Backend arguments that change speed or placement, never results (left out of the hash)."""
 
 FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0, "images": True, "scene_as_text": False}
 """Fields added after the first release, with their defaults (hashed only when different)."""
+
+GENERATION_FIELDS_ADDED_LATER: dict[str, Any] = {"top_k": 0, "repetition_penalty": 1.0}
+"""Decoding settings added later, with their neutral values (hashed only when different)."""
 
 SCORING_FIELDS_ADDED_LATER: dict[str, Any] = {"loc_alignment": "order"}
 """Scoring fields added later, with the value every run had before them: hashed only when
@@ -147,6 +160,9 @@ class RunConfig(Frozen):
             if not is_secret_arg(k) and k not in OPERATIONAL_BACKEND_ARGS
         }
         data["generation"].pop("batch_size", None)
+        for name, default in GENERATION_FIELDS_ADDED_LATER.items():
+            if data["generation"].get(name) == default:
+                del data["generation"][name]
         for name, default in FIELDS_ADDED_LATER.items():
             if data.get(name) == default:
                 del data[name]
