@@ -16,9 +16,7 @@ STEP = {"tasktype": "UAV", "direction": "front"}
 def test_the_bound_leaves_room_for_every_gt_plan() -> None:
     tasks = all_tasks()
     specs = tasks.values() if isinstance(tasks, dict) else tasks
-    longest = max(
-        len(plan) for task in specs for plan in load_materialised(task).gt_plans.values()
-    )
+    longest = max(len(plan) for task in specs for plan in load_materialised(task).gt_plans.values())
     assert plan_json_schema()["maxItems"] == MAX_PLAN_STEPS >= 2 * longest
 
 
