@@ -6,7 +6,7 @@ import os
 from pathlib import Path
 
 _PACKAGE_DIR = Path(__file__).resolve().parent
-_DATA_FOLDERS = ("prompts", "ground_truth", "skills")
+_DATA_FOLDERS = ("prompts", "ground_truth", "skills", "models")
 
 
 def data_root() -> Path:
@@ -37,6 +37,11 @@ def ground_truth_dir() -> Path:
 def skills_dir() -> Path:
     """Skill library data files."""
     return data_root() / "skills"
+
+
+def models_dir() -> Path:
+    """Model cards (recipes of the paper's VLMs)."""
+    return data_root() / "models"
 
 
 def results_dir() -> Path:

@@ -3,20 +3,27 @@
 Model strings: ``oracle``, ``random``, ``blind``, ``rules``, ``mock`` select the built-ins;
 ``openai/<name>`` and ``vllm/<id>`` select those backends; ``<plugin>/<model>`` (or a bare
 ``<plugin>``) selects a backend added through the ``vlm_bench.backends`` entry-point group;
-anything else (a Hugging Face id ``org/name`` or a local path) selects ``hf``.
-Write ``./vllm/x`` for a local folder whose name starts like a backend.
+a model card's name (``qwen2.5-vl-7b``, see ``vlm-bench models``) selects the card's backend,
+checkpoint and ``-M`` arguments, and ``vllm/<card>`` or ``openai/<card>`` the card with that
+backend; anything else (a Hugging Face id ``org/name`` or a local path) selects ``hf``. A bare
+name that is none of these is an error. Write ``./vllm/x`` (``./qwen2.5-vl-7b``) for a local
+folder whose name starts like a backend (or is a card's name).
 """
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from importlib import import_module
 from importlib.metadata import EntryPoint, entry_points
+from pathlib import Path
 
 from vlm_bench.backends.base import Backend
+from vlm_bench.catalog.model_cards import model_cards
 from vlm_bench.errors import ConfigError
 from vlm_bench.registry import Registry
+from vlm_bench.types.model_card import ModelCard
 
 ENTRY_POINT_GROUP = "vlm_bench.backends"
 
@@ -95,19 +102,50 @@ def load_plugins() -> None:
         BACKENDS.add(ep.name, BackendEntry(_plugin_factory(ep), True, f"plug-in {ep.value}"))
 
 
+def card_for(model: str) -> ModelCard | None:
+    """The model card a model string names (``<card>`` or ``<backend>/<card>``), if any."""
+    cards = model_cards()
+    prefix, sep, rest = model.partition("/")
+    if not sep:
+        return cards.get(model)
+    if prefix in BACKENDS and BACKENDS.get(prefix).takes_model:
+        return cards.get(rest)
+    return None
+
+
+def _unknown_bare_name(model: str) -> ConfigError:
+    bare = [n for n in BACKENDS.names() if n not in _BUILTINS or not BACKENDS.get(n).takes_model]
+    names = sorted(bare) + sorted(model_cards())
+    close = difflib.get_close_matches(model.lower(), names, n=1, cutoff=0.6)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    return ConfigError(
+        f"unknown model {model!r}: not a backend, a model card or a local folder; {hint}give a "
+        f"HF id org/name, a local path, openai/<name>, vllm/<id>, or one of: {', '.join(names)}"
+    )
+
+
 def split_model(model: str) -> tuple[str, str]:
-    """Apply the model-string rules: ``(backend name, model name for that backend)``."""
+    """Apply the model-string rules: ``(backend name, model name for that backend)``.
+
+    Raises:
+        ConfigError: An empty string, or a bare name that is no backend, card or local folder.
+    """
     load_plugins()
     if model in BACKENDS and model != "hf":
         return model, ""
-    prefix, sep, rest = model.partition("/")
-    if sep and prefix in BACKENDS and BACKENDS.get(prefix).takes_model:
-        return prefix, rest
     if not model:
         raise ConfigError(
             "empty model string; give a HF id, a local path, openai/<name>, "
             f"vllm/<id>, or one of: {', '.join(sorted(_BUILTINS - {'hf'}))}"
         )
+    card = card_for(model)
+    prefix, sep, rest = model.partition("/")
+    if sep and prefix in BACKENDS and BACKENDS.get(prefix).takes_model:
+        return prefix, card.hub_id if card is not None else rest
+    if card is not None:
+        return card.backend, card.hub_id
+    if not sep and not Path(model).exists():
+        raise _unknown_bare_name(model)
     return "hf", model
 
 
@@ -116,15 +154,18 @@ def resolve_backend(model: str, args: Mapping[str, str] | None = None) -> Backen
 
     Args:
         model: ``oracle``, ``random``, ``mock``, ``openai/<name>``, ``vllm/<id>``,
-            ``<plugin>/<model>``, or a HF id / local path (``hf``).
-        args: Raw ``-M`` strings; each backend validates them against its own args model.
+            ``<plugin>/<model>``, a model card's name, or a HF id / local path (``hf``).
+        args: Raw ``-M`` strings; each backend validates them against its own args model. For a
+            model card they are added to the card's own (given keys win).
 
     Raises:
         ConfigError: Unknown or invalid arguments (the message lists the valid keys).
         MissingExtraError: The backend's optional dependency is not installed.
     """
     name, model_name = split_model(model)
-    return BACKENDS.get(name).factory(model_name, dict(args or {}))
+    card = card_for(model)
+    merged = {**(card.args_for(name) if card is not None else {}), **dict(args or {})}
+    return BACKENDS.get(name).factory(model_name, merged)
 
 
 def parse_model_args(pairs: list[str] | tuple[str, ...]) -> dict[str, str]:

@@ -22,9 +22,10 @@ app = typer.Typer(
 
 
 def _register() -> None:
-    from vlm_bench.cli import report_cmd, world_cmds
+    from vlm_bench.cli import models_cmd, report_cmd, world_cmds
 
     world_cmds.register(app)
+    models_cmd.register(app)
     report_cmd.register(app)
     try:
         from vlm_bench.cli import execute_cmd, run_cmds

@@ -1,0 +1,30 @@
+"""Model cards (``models/*.json``), validated as :class:`~vlm_bench.types.model_card.ModelCard`."""
+
+from __future__ import annotations
+
+from functools import cache
+
+from vlm_bench.catalog.files import load_model
+from vlm_bench.errors import DataFileError, UnknownNameError
+from vlm_bench.resources import models_dir
+from vlm_bench.types.model_card import ModelCard
+
+
+@cache
+def model_cards() -> dict[str, ModelCard]:
+    """Every card by name, in file-name order (cached)."""
+    out: dict[str, ModelCard] = {}
+    for path in sorted(models_dir().glob("*.json")):
+        card = load_model(path, ModelCard)
+        if card.name != path.stem:
+            raise DataFileError(str(path), f"name: {card.name!r} differs from the file name")
+        out[card.name] = card
+    return out
+
+
+def model_card(name: str) -> ModelCard:
+    """One card by name; raises listing the cards."""
+    cards = model_cards()
+    if name not in cards:
+        raise UnknownNameError("model card", name, cards)
+    return cards[name]

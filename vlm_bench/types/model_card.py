@@ -1,0 +1,73 @@
+"""Model cards (``models/*.json``): how to run one vision-language model with vlm-bench.
+
+A card names the checkpoint, the backend that serves it when ``--model <card>`` is given, the
+``-M`` arguments each backend needs, the decoding budget, and what is known to go wrong. The
+exact command lines are derived from these fields (``vlm_bench.backends.recipes``), so they
+cannot drift from the arguments.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from vlm_bench.types.world import Frozen
+
+CardBackend = Literal["hf", "vllm", "openai"]
+"""The model backends a card can give a recipe for."""
+CARD_BACKENDS: tuple[CardBackend, ...] = ("hf", "vllm", "openai")
+
+
+class ModelCard(Frozen):
+    """One model's recipe."""
+
+    name: str = Field(
+        pattern=r"^[a-z0-9][a-z0-9.\-]*$", description="Card name, used as --model <name>."
+    )
+    title: str = Field(min_length=1, description="The model's own name.")
+    hub_id: str = Field(
+        pattern=r"^[\w.\-]+/[\w.\-]+$", description="Hugging Face hub id of the checkpoint."
+    )
+    in_paper: bool = Field(description="One of the paper's six models (else a stand-in).")
+    architecture: str = Field(
+        min_length=1, description="Architecture class in the checkpoint's config.json."
+    )
+    backend: CardBackend = Field(description="Backend --model <name> selects.")
+    dtype: Literal["bfloat16", "float16", "float32"] = Field(description="Weights dtype.")
+    remote_code: bool = Field(description="Needs the checkpoint repo's own Python code.")
+    images: str = Field(
+        min_length=1, description="How the processor sizes a view, and the -M limit it takes."
+    )
+    max_new_tokens: int = Field(ge=1, description="Decoding budget the recipe runs with.")
+    run_options: tuple[str, ...] = Field(
+        default=(), description="Other vlm-bench run options the recipe needs (--views uav)."
+    )
+    hf_args: dict[str, str] | None = Field(
+        default=None, description="-M arguments of the hf backend (None: hf cannot serve it)."
+    )
+    vllm_args: dict[str, str] | None = Field(
+        default=None, description="-M arguments of the vllm backend (also the server's flags)."
+    )
+    unsupported: dict[CardBackend, str] = Field(
+        default_factory=dict, description="Backends that cannot serve it, and why."
+    )
+    quirks: tuple[str, ...] = Field(default=(), description="Known problems and their remedies.")
+
+    @model_validator(mode="after")
+    def _recipes_match_support(self) -> ModelCard:
+        for backend, args in (("hf", self.hf_args), ("vllm", self.vllm_args)):
+            if (args is None) != (backend in self.unsupported):
+                raise ValueError(
+                    f"{backend}_args must be given exactly when {backend!r} is not in unsupported"
+                )
+        if self.backend in self.unsupported:
+            raise ValueError(f"backend {self.backend!r} is listed as unsupported")
+        if "openai" in self.unsupported and "vllm" not in self.unsupported:
+            raise ValueError("a model vLLM runs can be served to the openai backend by vllm serve")
+        return self
+
+    def args_for(self, backend: str) -> dict[str, str]:
+        """The card's ``-M`` arguments for ``backend`` (none for openai and other backends)."""
+        args = {"hf": self.hf_args, "vllm": self.vllm_args}.get(backend)
+        return dict(args or {})
