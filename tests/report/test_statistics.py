@@ -205,3 +205,14 @@ def test_multiplicities_resample_within_strata() -> None:
     w = multiplicities(strata, 50, np.random.default_rng(0))
     assert w.shape == (50, 5)
     assert (w[:, :3].sum(axis=1) == 3).all() and (w[:, 3:].sum(axis=1) == 2).all()
+
+
+def test_systems_of_several_columns_are_named_with_slashes(make_record: Make) -> None:
+    from vlm_bench.report.paired import find_system
+
+    frame = records_frame([make_record("m", "standard_pick_place", 0, "explicit", 1.0)])
+    frame["res"] = 448
+    assert find_system(frame, ["model", "res"], "m/448") == ("m", 448)
+    assert find_system(frame, ["model", "res"], ("m", 448)) == ("m", 448)
+    with pytest.raises(UnknownNameError, match="valid: m/448"):
+        find_system(frame, ["model", "res"], "m/224")

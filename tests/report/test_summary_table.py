@@ -15,19 +15,40 @@ from vlm_bench.types.scores import PlanScores
 
 
 def _scores(total: float, succ: bool) -> PlanScores:
-    return PlanScores(s_plan=total, s_loc=total, s_obj=total, s_skill=total, s_total=total,
-                      succ=succ, m=0, k=0, n=1, n_move=0, m_obj=0, k_obj=0, n_obj=0,
-                      m_skill=0, n_skill=0)
+    return PlanScores(
+        s_plan=total,
+        s_loc=total,
+        s_obj=total,
+        s_skill=total,
+        s_total=total,
+        succ=succ,
+        m=0,
+        k=0,
+        n=1,
+        n_move=0,
+        m_obj=0,
+        k_obj=0,
+        n_obj=0,
+        m_skill=0,
+        n_skill=0,
+    )
 
 
-def _rec(model: str, suite: str, seed: int, variant: str, total: float | None,
-         succ: bool = False) -> EpisodeRecord:
+def _rec(
+    model: str, suite: str, seed: int, variant: str, total: float | None, succ: bool = False
+) -> EpisodeRecord:
     ok = total is not None
     return EpisodeRecord(
-        run_id="r", key=f"{suite}_t/{seed}/{variant}", task_id=f"{suite}_t", suite=suite,
-        seed=seed, variant=variant, model=model,
+        run_id="r",
+        key=f"{suite}_t/{seed}/{variant}",
+        task_id=f"{suite}_t",
+        suite=suite,
+        seed=seed,
+        variant=variant,
+        model=model,
         scores=_scores(total, succ) if total is not None else None,
-        status="ok" if ok else "error", backend_error=None if ok else "timeout",
+        status="ok" if ok else "error",
+        backend_error=None if ok else "timeout",
     )
 
 
@@ -85,14 +106,33 @@ def test_rows_are_ordered_like_the_paper(frame: pd.DataFrame) -> None:
     m1 = long[long.model == "m1"]
     assert list(dict.fromkeys(m1.instruction)) == ["explicit", "implicit", "both"]
     assert list(m1[m1.instruction == "explicit"].suite) == [
-        "base_manipulation", "long_horizon", "overall"]
-    assert list(long.columns) == ["model", "instruction", "suite", "S_plan", "S_loc", "S_obj",
-                                  "S_skill", "S_total", "Succ", "Loc_over_blind", "n", "n_error"]
+        "base_manipulation",
+        "long_horizon",
+        "overall",
+    ]
+    assert list(long.columns) == [
+        "model",
+        "instruction",
+        "suite",
+        "S_plan",
+        "S_loc",
+        "S_obj",
+        "S_skill",
+        "S_total",
+        "Succ",
+        "Loc_over_blind",
+        "n",
+        "n_error",
+    ]
 
 
 def test_a_suite_with_only_errors_leaves_overall_undefined() -> None:
-    frame = records_frame([_rec("m", "base_manipulation", 0, "explicit", 80.0),
-                           _rec("m", "long_horizon", 0, "explicit", None)])
+    frame = records_frame(
+        [
+            _rec("m", "base_manipulation", 0, "explicit", 80.0),
+            _rec("m", "long_horizon", 0, "explicit", None),
+        ]
+    )
     long = summary_long(frame)
     assert pd.isna(_row(long, "m", "explicit", "long_horizon").S_total)
     assert pd.isna(_row(long, "m", "explicit", "overall").S_total)
@@ -101,8 +141,12 @@ def test_a_suite_with_only_errors_leaves_overall_undefined() -> None:
 def test_wide_markdown_and_rich_layouts(frame: pd.DataFrame) -> None:
     long = summary_long(frame)
     wide = summary_wide(long)
-    assert list(wide.index) == [("m1", "explicit"), ("m1", "implicit"), ("m1", "both"),
-                                ("m2", "explicit")]
+    assert list(wide.index) == [
+        ("m1", "explicit"),
+        ("m1", "implicit"),
+        ("m1", "both"),
+        ("m2", "explicit"),
+    ]
     assert wide.columns[0] == ("base_manipulation", "S_plan")
     assert wide.columns[-1] == ("overall", "Loc_over_blind")
     assert wide.loc[("m1", "explicit"), ("overall", "S_total")] == pytest.approx(60.0)
@@ -118,8 +162,10 @@ def test_wide_markdown_and_rich_layouts(frame: pd.DataFrame) -> None:
 
 
 def test_write_summary_files_from_the_run_folder(tmp_path: Path, frame: pd.DataFrame) -> None:
-    recs = [_rec("m1", "base_manipulation", 0, "explicit", 100.0, succ=True),
-            _rec("m1", "semantic_understanding", 0, "explicit", 40.0)]
+    recs = [
+        _rec("m1", "base_manipulation", 0, "explicit", 100.0, succ=True),
+        _rec("m1", "semantic_understanding", 0, "explicit", 40.0),
+    ]
     (tmp_path / "records.jsonl").write_text("".join(r.model_dump_json() + "\n" for r in recs))
     long = write_summary(tmp_path)
     csv = pd.read_csv(tmp_path / "summary.csv")
@@ -145,8 +191,16 @@ def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode() -> 
     blind = json.dumps(plan_to_json(blind_plan(ep.task_id, ep.seed, ep.arm_steps())))
     floor = score_output(ep.task_id, ep.seed, blind)["scores"]["s_loc"]
     record = EpisodeRecord(
-        run_id="r", key="k", task_id=ep.task_id, suite=ep.suite, seed=ep.seed,
-        variant="explicit", model="m", gt_plan=gt, scores=_scores(100.0, True), status="ok",
+        run_id="r",
+        key="k",
+        task_id=ep.task_id,
+        suite=ep.suite,
+        seed=ep.seed,
+        variant="explicit",
+        model="m",
+        gt_plan=gt,
+        scores=_scores(100.0, True),
+        status="ok",
     )
     row = records_frame([record]).iloc[0]
     assert row.S_loc_blind == pytest.approx(floor)

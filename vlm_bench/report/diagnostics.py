@@ -6,7 +6,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.report.groups import SUITES, Grouping
 from vlm_bench.report.paired import paired_table
-from vlm_bench.report.summary import By, by_columns, system_order
+from vlm_bench.report.summary import By, by_columns, system_order, system_rows
 
 TIERS = ("valid", "repaired", "invalid")
 """Parse tiers (:data:`vlm_bench.types.parse.ParseTier`), in order."""
@@ -22,7 +22,7 @@ def parse_tier_rates(frame: pd.DataFrame, by: By = "model") -> pd.DataFrame:
     keys = by_columns(by)
     rows = []
     for system in system_order(frame, keys):
-        mine = frame[(frame[keys] == pd.Series(system, index=keys)).all(axis=1)]
+        mine = system_rows(frame, keys, system)
         ok = mine[mine["status"] == "ok"]
         counts = ok["tier"].value_counts()
         n = len(ok)

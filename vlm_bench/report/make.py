@@ -17,7 +17,6 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
 from vlm_bench.report.bootstrap import bootstrap_cis
 from vlm_bench.report.diagnostics import (
-    error_code_frequencies,
     error_code_table,
     loc_over_blind_run,
     parse_tier_rates,
@@ -26,7 +25,7 @@ from vlm_bench.report.groups import Grouping, grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import load
 from vlm_bench.report.options import ReportOptions
-from vlm_bench.report.paired import _system, paired_table
+from vlm_bench.report.paired import find_system, paired_table
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
 from vlm_bench.report.summary import sort_systems, summary_long, table_values
 from vlm_bench.report.tables import summary_markdown
@@ -49,8 +48,6 @@ class Report:
     """Long summary per grouping name (:func:`vlm_bench.report.summary.summary_long`)."""
     cis: dict[str, pd.DataFrame] = field(default_factory=dict)
     """Bootstrap intervals per grouping name (with ``stats``)."""
-    codes: pd.DataFrame | None = None
-    """Error-code frequencies, long form (with ``stats``)."""
     sections: list[Section] = field(default_factory=list)
     """Statistics as display tables, in order."""
 
@@ -105,19 +102,21 @@ def build_report(options: ReportOptions) -> Report:
     names = ["suites", "paper"] if options.grouping == "both" else [options.grouping]
     groupings = [grouping(n) for n in names]
     if options.paired is not None:
-        _system(frame, by, options.paired.split("/") if len(by) > 1 else options.paired)
+        find_system(frame, by, options.paired)
     tables = {}
     for g in groupings:
         long = summary_long(frame, by, g)
         tables[g.name] = sort_systems(long, by, g) if options.sort == "total" else long
     report = Report(options, frame, groupings, tables)
-    if options.stats or options.plots is not None or options.format in ("csv", "parquet"):
+    if options.stats or options.plots is not None:
         for g in groupings:
             report.cis[g.name] = bootstrap_cis(
                 frame, by, g, n_boot=options.n_boot, seed=options.seed, level=options.level
             )
     if options.stats:
         _add_sections(report)
+    if options.paired is not None:
+        _add_paired(report, options.paired)
     return report
 
 
@@ -128,7 +127,6 @@ def _add_sections(report: Report) -> None:
         ci_section(report.cis[first.name], by, first, options.n_boot, options.seed, options.level)
     )
     report.sections.append(tier_section(parse_tier_rates(frame, by), by))
-    report.codes = error_code_frequencies(frame, by)
     report.sections.append(code_section(error_code_table(frame, by), by))
     blind = loc_over_blind_run(frame, "run", first, options.n_boot, options.seed)
     if not blind.empty:
@@ -140,30 +138,32 @@ def _add_sections(report: Report) -> None:
                 "images add over guessing the likeliest direction), task-clustered interval.",
             )
         )
-    if options.paired is not None:
-        reference = options.paired.split("/") if len(by) > 1 else options.paired
-        ok = frame[frame["status"] == "ok"]
-        metrics = [*PAIRED_METRICS]
-        if "exec_success" in ok.columns and ok["exec_success"].notna().any():
-            metrics.append("exec_success")
-        pairs = paired_table(
-            frame,
-            tuple(reference) if isinstance(reference, list) else reference,
-            metrics,
-            by,
-            first,
-            options.n_boot,
-            options.seed,
-            options.level,
+
+
+def _add_paired(report: Report, name: str) -> None:
+    options, frame, by = report.options, report.frame, list(report.options.by)
+    ok = frame[frame["status"] == "ok"]
+    metrics = [*PAIRED_METRICS]
+    if "exec_success" in ok.columns and ok["exec_success"].notna().any():
+        metrics.append("exec_success")
+    pairs = paired_table(
+        frame,
+        find_system(frame, by, name),
+        metrics,
+        by,
+        report.groupings[0],
+        options.n_boot,
+        options.seed,
+        options.level,
+    )
+    report.sections.append(
+        pair_section(
+            pairs,
+            f"Paired comparison with {name}",
+            "A − B on the episodes both answered: the table's overall estimator with a "
+            "task-clustered bootstrap interval, and the exact sign test over episodes.",
         )
-        report.sections.append(
-            pair_section(
-                pairs,
-                f"Paired comparison with {options.paired}",
-                "A − B on the episodes both answered: the table's overall estimator with a "
-                "task-clustered bootstrap interval, and the exact sign test over episodes.",
-            )
-        )
+    )
 
 
 def long_with_cis(report: Report) -> pd.DataFrame:

@@ -22,7 +22,7 @@ from pydantic import Field
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.report.bootstrap import Episodes, _interval, cell_estimates, multiplicities
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
-from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns, system_order
+from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns, system_order, system_rows
 from vlm_bench.types.world import Frozen
 
 EPISODE = ["task_id", "seed", "instruction"]
@@ -72,15 +72,17 @@ def metric_values(frame: pd.DataFrame, metric: str) -> pd.Series:
         raise ConfigError(f"cannot compare on {metric!r}: not a numeric column") from None
 
 
-def _system_rows(frame: pd.DataFrame, keys: list[str], system: tuple[object, ...]) -> pd.DataFrame:
-    mask = np.ones(len(frame), dtype=bool)
-    for key, value in zip(keys, system, strict=True):
-        mask &= (frame[key] == value).to_numpy()
-    return frame[mask]
+def find_system(frame: pd.DataFrame, by: By, name: object) -> tuple[object, ...]:
+    """The system (tuple of ``by`` values) called ``name``: a value, a tuple, or for several
+    ``by`` columns their values joined by '/' (``"uav,overhead/448"``).
 
-
-def _system(frame: pd.DataFrame, keys: list[str], name: object) -> tuple[object, ...]:
+    Raises:
+        UnknownNameError: No such system (lists them).
+    """
+    keys = by_columns(by)
     systems = system_order(frame, keys)
+    if isinstance(name, str) and len(keys) > 1:
+        name = tuple(name.split("/"))
     wanted = tuple(name) if isinstance(name, tuple | list) else (name,)
     for system in systems:
         if tuple(str(v) for v in system) == tuple(str(v) for v in wanted):
@@ -119,9 +121,9 @@ def paired_comparison(
     keys = by_columns(by)
     frame = grouping.assign(frame)
     ok = frame[(frame["status"] == "ok") & metric_values(frame, metric).notna()]
-    sys_a, sys_b = _system(frame, keys, a), _system(frame, keys, b)
-    rows_a = _system_rows(ok, keys, sys_a)[[*EPISODE, grouping.column, metric]]
-    rows_b = _system_rows(ok, keys, sys_b)[[*EPISODE, metric]]
+    sys_a, sys_b = find_system(frame, keys, a), find_system(frame, keys, b)
+    rows_a = system_rows(ok, keys, sys_a)[[*EPISODE, grouping.column, metric]]
+    rows_b = system_rows(ok, keys, sys_b)[[*EPISODE, metric]]
     both = rows_a.merge(rows_b, on=EPISODE, suffixes=("_a", "_b"))
     scale = 100.0 if metric in PERCENT else 1.0
     diff = (metric_values(both, f"{metric}_a") - metric_values(both, f"{metric}_b")) * scale
@@ -166,7 +168,7 @@ def paired_table(
     """Every other system against ``reference``, one row per system × metric
     (the fields of :class:`PairedComparison`)."""
     keys = by_columns(by)
-    ref = _system(frame, keys, reference)
+    ref = find_system(frame, keys, reference)
     rows = [
         paired_comparison(
             frame, system, ref, metric, keys, grouping, n_boot, seed, level

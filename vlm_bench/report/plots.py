@@ -18,7 +18,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from vlm_bench.errors import MissingExtraError
 from vlm_bench.report.bootstrap import bootstrap_cis
 from vlm_bench.report.groups import OVERALL, Grouping
-from vlm_bench.report.summary import BOTH, system_order
+from vlm_bench.report.summary import headline, system_order, system_rows
 from vlm_bench.report.tables import HEADERS
 from vlm_bench.types.plan import HORIZONTAL_DIRECTIONS
 
@@ -42,14 +42,8 @@ def _pyplot() -> Any:
 
 
 def overall_cis(cis: pd.DataFrame, by: list[str], column: str) -> pd.DataFrame:
-    """Each system's overall rows: ``both`` where it has both instructions, else its own."""
-    overall = cis[cis[column] == OVERALL]
-    keep = []
-    for system in system_order(overall, by):
-        mine = overall[(overall[by] == pd.Series(system, index=by)).all(axis=1)]
-        variants = set(mine["instruction"])
-        keep.append(mine[mine["instruction"] == (BOTH if BOTH in variants else min(variants))])
-    return pd.concat(keep) if keep else overall
+    """Each system's overall intervals of its headline instruction (``both`` where it has it)."""
+    return headline(cis[cis[column] == OVERALL], by)
 
 
 def _name(system: tuple[object, ...]) -> str:
@@ -63,7 +57,7 @@ def _bars(
     width = 0.8 / max(len(systems), 1)
     x = np.arange(len(labels))
     for i, system in enumerate(systems):
-        mine = table[(table[by] == pd.Series(system, index=by)).all(axis=1)].set_index("metric")
+        mine = system_rows(table, by, system).set_index("metric")
         value = np.array([mine["value"].get(m, np.nan) for m in metrics], dtype=float)
         lo = np.array([mine["lo"].get(m, np.nan) for m in metrics], dtype=float)
         hi = np.array([mine["hi"].get(m, np.nan) for m in metrics], dtype=float)
@@ -112,7 +106,7 @@ def plot_radar(report: Report, path: Path) -> Path:
     angles = np.linspace(0, 2 * math.pi, len(PLANNING), endpoint=False)
     fig, ax = plt.subplots(figsize=(5.2, 5.2), subplot_kw={"projection": "polar"})
     for system in system_order(table, by):
-        mine = table[(table[by] == pd.Series(system, index=by)).all(axis=1)].set_index("metric")
+        mine = system_rows(table, by, system).set_index("metric")
         values = np.array([mine["value"].get(m, np.nan) for m in PLANNING], dtype=float)
         closed = np.append(values, values[0])
         ax.plot(np.append(angles, angles[0]), closed, marker="o", label=_name(system))

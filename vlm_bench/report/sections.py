@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, Grouping
-from vlm_bench.report.summary import BOTH, By, by_columns, system_order
+from vlm_bench.report.summary import By, by_columns, headline, system_order, system_rows
 from vlm_bench.report.tables import HEADERS, system_headers
 from vlm_bench.report.text import p_value, with_ci
 
@@ -33,24 +33,24 @@ def ci_section(
 ) -> Section:
     """Overall values with their intervals, one row per system (``both``, or its instruction)."""
     keys = by_columns(by)
-    overall = cis[cis[grouping.column] == OVERALL]
+    overall = headline(cis[cis[grouping.column] == OVERALL], keys)
     metrics = list(dict.fromkeys(overall["metric"]))
     rows, narrow = [], []
     for system in system_order(overall, keys):
-        mine = overall[(overall[keys] == pd.Series(system, index=keys)).all(axis=1)]
-        variants = list(dict.fromkeys(mine["instruction"]))
-        for instruction in [BOTH] if BOTH in variants else variants:
-            cells = mine[mine["instruction"] == instruction].set_index("metric")
-            first = cells.iloc[0]
-            label = {**_label(keys, dict(zip(keys, system, strict=True))), "Instr.": instruction}
-            row: dict[str, object] = dict(label)
-            for m in metrics:
-                c = cells.loc[m] if m in cells.index else None
-                row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"])
-                if c is not None:
-                    narrow.append({**label, "metric": HEADERS[m], "value [CI]": row[HEADERS[m]]})
-            row["n"], row["tasks"] = int(first["n"]), int(first["n_tasks"])
-            rows.append(row)
+        cells = system_rows(overall, keys, system).set_index("metric")
+        first = cells.iloc[0]
+        label = {
+            **_label(keys, dict(zip(keys, system, strict=True))),
+            "Instr.": first["instruction"],
+        }
+        row: dict[str, object] = dict(label)
+        for m in metrics:
+            c = cells.loc[m] if m in cells.index else None
+            row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"])
+            if c is not None:
+                narrow.append({**label, "metric": HEADERS[m], "value [CI]": row[HEADERS[m]]})
+        row["n"], row["tasks"] = int(first["n"]), int(first["n_tasks"])
+        rows.append(row)
     frame = pd.DataFrame(rows)
     caption = (
         f"{round(level * 100)} % bootstrap intervals over tasks (resampled within each "

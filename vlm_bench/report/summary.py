@@ -31,7 +31,6 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.report.frame import EXEC_METRICS, METRICS
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
-from vlm_bench.types.task import Suite
 
 __all__ = ["OVERALL"]
 
@@ -50,7 +49,6 @@ SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error")
 PERCENT = ("Succ", "exec_success")
 """Boolean columns reported as percentages."""
 
-SUITE_ORDER = [s.value for s in Suite]
 INSTRUCTION_ORDER = ["explicit", "implicit", BOTH]
 
 By = str | Sequence[str]
@@ -60,6 +58,20 @@ By = str | Sequence[str]
 def by_columns(by: By) -> list[str]:
     """``by`` as a list of column names."""
     return [by] if isinstance(by, str) else list(by)
+
+
+def system_rows(frame: pd.DataFrame, by: By, system: tuple[object, ...]) -> pd.DataFrame:
+    """The rows of one system (a tuple of ``by`` values)."""
+    keys = by_columns(by)
+    return frame[(frame[keys] == pd.Series(system, index=keys)).all(axis=1)]
+
+
+def headline(rows: pd.DataFrame, by: By) -> pd.DataFrame:
+    """The rows of each system's headline instruction: ``both`` where the system has both
+    variants, else its only one (what the paper's per-model Overall reports)."""
+    keys = by_columns(by)
+    both = (rows["instruction"] == BOTH).groupby([rows[k] for k in keys], dropna=False)
+    return rows[(rows["instruction"] == BOTH) | ~both.transform("any")]
 
 
 def summary_values(frame: pd.DataFrame) -> tuple[str, ...]:
@@ -197,12 +209,8 @@ def sort_systems(
     Tot, ascending); a system's overall is its ``both`` row, or its first instruction's. Systems
     without a value go last; ties keep their order."""
     keys = by_columns(by)
-    overall = long[long[grouping.column] == OVERALL]
-    score: dict[tuple[object, ...], float] = {}
-    for record in overall.to_dict("records"):
-        system = tuple(record[k] for k in keys)
-        if system not in score or record["instruction"] == BOTH:
-            score[system] = float(record[metric])
+    overall = headline(long[long[grouping.column] == OVERALL], keys)
+    score = {tuple(r[k] for k in keys): float(r[metric]) for r in overall.to_dict("records")}
     systems = system_order(long, keys)
     sign = 1.0 if ascending else -1.0
 

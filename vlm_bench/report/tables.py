@@ -35,9 +35,6 @@ HEADERS = {
     "S_task": "Task",
 }
 """Metric column headers as in the paper (Exec = execution success, Task = S_task)."""
-SUITE_SHORT = SUITES.short
-"""Short suite names for column headers."""
-
 LEGEND = (
     "Succ in %; ΔLoc = Loc minus the blind floor's Loc on the same episodes (what the images "
     "add); Overall = unweighted mean of the {groups} columns; `both` = mean of explicit "
