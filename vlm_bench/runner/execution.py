@@ -94,19 +94,19 @@ class PlanExecutor:
 
     def summary(self, episode: Episode, steps: list[UavStep | ArmStep]) -> ExecutionSummary:
         """Execute ``steps`` on the episode; an exception becomes a failed summary."""
-        return self._run(episode, steps)[0]
+        return self.run(episode, steps)[0]
 
     def execute(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord:
         """``record`` with its plan's execution summary (None when it has no plan to execute)."""
         steps = record_plan(record)
         if steps is None:
             return record.model_copy(update={"execution": None})
-        summary, crash = self._run(episode, steps)
+        summary, crash = self.run(episode, steps)
         if crash is not None and len(self.crash_messages) < 5:
             self.crash_messages.append(f"{record.key}: {crash}")
         return record.model_copy(update={"execution": summary})
 
-    def _run(
+    def run(
         self, episode: Episode, steps: list[UavStep | ArmStep]
     ) -> tuple[ExecutionSummary, str | None]:
         from vlm_bench import executor

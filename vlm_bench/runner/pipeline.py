@@ -3,9 +3,11 @@ execute → record.
 
 Bad model output is scored (and its valid plan executed when the run executes plans), a failed
 generation is recorded as an ``error`` record (a resume retries it), and every record is durable
-as soon as it is written: an interrupt loses at most the batch in flight (a requested stop is
-also honoured before each execution). Answers are cached before their records, keyed by episode
-and prompt hash, so a batch whose answers arrived is never asked again.
+as soon as it is written. Plans execute off the generation path (:mod:`vlm_bench.runner.replays`):
+while worker processes replay one batch's plans the backend generates the next, and each record
+is written once, with its execution, when its replay finishes. Answers are cached before their
+records, keyed by episode and prompt hash, so an interrupt (Ctrl-C, or a kill) loses only
+replays: a resume scores the cached answers again and re-executes what has no record.
 """
 
 from __future__ import annotations
@@ -19,8 +21,9 @@ from vlm_bench.errors import VlmBenchError
 from vlm_bench.parsing import plan_json_schema
 from vlm_bench.prompting import build_prompt
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
-from vlm_bench.runner.execution import PlanExecutor
 from vlm_bench.runner.interrupt import StopFlag
+from vlm_bench.runner.progress import RunProgress
+from vlm_bench.runner.replays import Replays
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.runner.snapshots import SnapshotSource
 from vlm_bench.sim.visibility import first_target_visible
@@ -79,8 +82,9 @@ class EpisodePipeline:
         store: RunStore,
         backend: Callable[[], Backend],
         snapshots: SnapshotSource,
-        advance: Callable[[int], None] | None = None,
+        progress: RunProgress | None = None,
         stop: StopFlag | None = None,
+        replays: Replays | None = None,
     ) -> None:
         """Set up the pipeline of one run.
 
@@ -90,42 +94,59 @@ class EpisodePipeline:
             backend: Returns the backend; called only when a model answer is needed, so a
                 resume of a finished run never loads the model.
             snapshots: Source of snapshot PNGs.
-            advance: Progress callback, called with the number of episodes finished.
-            stop: Checked between batches; a requested stop raises ``KeyboardInterrupt``
-                after the finished episodes are written.
+            progress: Shows generation and execution as they go.
+            stop: Checked between batches and replays; a requested stop raises
+                ``KeyboardInterrupt`` after the finished episodes are written (replays in
+                flight are dropped: a resume runs them again).
+            replays: Where plans execute, when the run executes plans (the pipeline closes
+                it); None = the run does not execute plans.
         """
         self.config = config
         self.store = store
         self._backend = backend
         self.snapshots = snapshots
-        self.advance = advance or (lambda n: None)
+        self.progress = progress or RunProgress(0, enabled=False)
         self.stats = PipelineStats()
         self._episode: Episode | None = None
         self.stop = stop or StopFlag()
-        self.executor = PlanExecutor(config.uav_noise) if config.execute else None
+        self.replays = replays if config.execute else None
 
     def run(self, refs: Sequence[EpisodeRef]) -> PipelineStats:
         """Evaluate every episode of ``refs`` that has no ok record yet."""
         pending = [r for r in refs if not self.store.is_done(r.key)]
         self.stats.total = len(refs)
         self.stats.skipped = len(refs) - len(pending)
-        self.advance(self.stats.skipped)
-        for batch in _chunks(pending, self.config.generation.batch_size):
-            self.stop.check()
-            self._run_batch([self._prepare(ref) for ref in batch])
+        self.progress.skipped(self.stats.skipped)
+        try:
+            for batch in _chunks(pending, self.config.generation.batch_size):
+                self.stop.check()
+                self._run_batch([self._prepare(ref) for ref in batch])
+                self._write_replayed(block=False)
+            while self.replays is not None and self.replays.in_flight:
+                self.stop.check()
+                self._write_replayed(block=True)
+        except BaseException:
+            if self.replays is not None:
+                self.replays.close(cancel=True)
+            raise
+        if self.replays is not None:
+            self.replays.close()
         return self.stats
 
-    def _execute(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord:
-        """Attach the execution of the record's plan when the run executes plans."""
-        if self.executor is None:
-            return record
-        self.stop.check()  # an execution takes seconds: honour a stop before starting one
-        record = self.executor.execute(episode, record)
-        stats = self.stats
-        stats.executed = self.executor.executed
-        stats.exec_crashes = self.executor.crashes
-        stats.exec_crash_messages = list(self.executor.crash_messages)
-        return record
+    def _write_replayed(self, block: bool) -> None:
+        """Write the records whose replays finished (``block``: wait for one at least)."""
+        if self.replays is None:
+            return
+        for record in self.replays.collect(block=block):
+            self._write(record)
+        r = self.replays.stats
+        self.stats.executed = r.executed
+        self.stats.exec_crashes = r.crashes
+        self.stats.exec_crash_messages = list(r.crash_messages)
+
+    def _write(self, record: EpisodeRecord) -> None:
+        self.store.append_record(record)
+        self.progress.written(1)
 
     def _episode_of(self, ref: EpisodeRef) -> Episode:
         ep = self._episode
@@ -200,6 +221,7 @@ class EpisodePipeline:
                         prompt_hash=p.info.prompt_hash,
                         text=result.text,
                         latency_s=result.latency_s,
+                        batch_latency_s=result.batch_latency_s,
                         prompt_tokens=result.prompt_tokens,
                         completion_tokens=result.completion_tokens,
                         finish_reason=result.finish_reason,
@@ -211,8 +233,13 @@ class EpisodePipeline:
                     self.stats.errors += 1
                     if len(self.stats.error_messages) < 5:
                         self.stats.error_messages.append(f"{p.ref.key}: {result.error}")
+            self.progress.generated(1)
             if record.ok:
-                record = self._execute(p.episode, record)
                 self.stats.scored += 1
-            store.append_record(record)
-            self.advance(1)
+                if self.replays is not None:
+                    self.stop.check()
+                    finished = self.replays.submit(p.episode, record)
+                    if finished is None:
+                        continue  # written when its replay finishes
+                    record = finished
+            self._write(record)

@@ -180,3 +180,21 @@ class ExecutionSummary(Frozen):
             sim_time_s=result.sim_time_s,
             wall_time_s=result.wall_time_s,
         )
+
+
+class ReplayOptions(Frozen):
+    """Where a run replays its plans (not part of its configuration: outcomes do not depend
+    on it)."""
+
+    workers: int | None = Field(
+        default=None,
+        ge=0,
+        description="Replays at once: worker processes, or Ray tasks; 0 = inline, in the run's "
+        "process, no overlap with generation; None = the machine's cores.",
+    )
+    backend: Literal["process", "ray"] = Field(
+        default="process", description="Worker processes of this machine, or a Ray cluster."
+    )
+    ray_address: str | None = Field(
+        default=None, description="Ray cluster address (ray backend); None = a local cluster."
+    )

@@ -1,0 +1,262 @@
+"""Plan replays off the generation path: the same outcome whatever the pool and the number of
+workers, one replay per distinct plan of an episode, dead workers replaced, progress lines."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+
+import pytest
+from rich.console import Console
+
+import vlm_bench
+from vlm_bench.episodes import make_episode
+from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
+from vlm_bench.runner.progress import RunProgress
+from vlm_bench.runner.replays import (
+    MAX_ATTEMPTS,
+    WORKER_DIED,
+    InlinePool,
+    ProcessPool,
+    Replayed,
+    ReplayJob,
+    Replays,
+    replay,
+)
+from vlm_bench.storage import latest_records, read_records
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
+from vlm_bench.types.plan import Direction, UavStep, plan_to_json
+from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.scores import ScoringConfig
+
+ROOT = Path(__file__).resolve().parents[2]
+FAST = ("container_geometry_bowl", "slim_object_in_bowl", "clear_desk_push_box")
+"""Tasks whose GT replays take ~2 s."""
+
+
+def _outcome(summary: ExecutionSummary | None) -> dict[str, object] | None:
+    """What must not depend on where a replay ran: all but its wall time."""
+    return None if summary is None else summary.model_dump(exclude={"wall_time_s"})
+
+
+def _fields(record: EpisodeRecord, *leave_out: str) -> dict[str, object]:
+    """The record's fields but its timing and ``leave_out``."""
+    return {k: v for k, v in record.without_timing().items() if k not in leave_out}
+
+
+def _jobs() -> list[ReplayJob]:
+    jobs = []
+    for task in FAST[:2]:
+        ep = make_episode(task, 0)
+        jobs.append(ReplayJob(task, 0, 0.0, tuple(ep.gt_plan)))
+        jobs.append(ReplayJob(task, 0, 0.0, (UavStep(direction=Direction.DOWN, distance=0.2),)))
+    return jobs
+
+
+def test_outcomes_do_not_depend_on_the_pool_or_its_workers() -> None:
+    jobs = _jobs()
+    inline = [replay(j)[0] for j in jobs]
+    assert inline[0].exec_success and not inline[1].exec_success
+    for workers in (1, 2):
+        pool = ProcessPool(workers)
+        try:
+            # reversed: each worker meets the episodes in another order than inline
+            futures = [pool.submit(j) for j in reversed(jobs)]
+            pooled = [f.result(timeout=300)[0] for f in reversed(futures)]
+        finally:
+            pool.close()
+        assert [_outcome(s) for s in pooled] == [_outcome(s) for s in inline]
+
+
+def test_ray_pool_gives_the_same_outcomes() -> None:
+    pytest.importorskip("ray", reason="the ray extra is not installed")
+    from vlm_bench.runner.replays_ray import RayPool
+
+    jobs = _jobs()[:2]
+    pool = RayPool(2)
+    try:
+        got = [f.result(timeout=300)[0] for f in [pool.submit(j) for j in jobs]]
+    finally:
+        pool.close()
+    assert [_outcome(s) for s in got] == [_outcome(replay(j)[0]) for j in jobs]
+
+
+def test_a_run_writes_the_same_records_with_0_1_or_2_workers(tmp_path: Path) -> None:
+    runs = {}
+    for workers in (0, 1, 2):
+        result = vlm_bench.run(
+            model="oracle",
+            tasks=FAST,
+            seeds=(0,),
+            resolution=48,
+            out=tmp_path / f"w{workers}",
+            replay=ReplayOptions(workers=workers),
+            snapshot_cache=tmp_path / "snapshots",
+        )
+        assert result.stats["executed"] == len(FAST)  # both instructions share one replay
+        by_key = {r.key: r for r in result.records}
+        runs[workers] = {
+            k: (
+                _fields(r, "execution", "run_id"),
+                _outcome(r.execution),
+            )
+            for k, r in sorted(by_key.items())
+        }
+    assert runs[0] == runs[1] == runs[2]
+    assert all(v[1] is not None and v[1]["exec_success"] for v in runs[0].values())
+
+
+class _FlakyPool:
+    """A pool whose first ``breaks`` submissions fail as if their worker process died."""
+
+    workers = 2
+
+    def __init__(self, breaks: int) -> None:
+        self.breaks = breaks
+        self.submitted = 0
+        self.restarts = 0
+
+    def submit(self, job: ReplayJob) -> Future[Replayed]:
+        self.submitted += 1
+        future: Future[Replayed] = Future()
+        if self.breaks > 0:
+            self.breaks -= 1
+            future.set_exception(BrokenProcessPool("a worker died"))
+        else:
+            future.set_result(replay(job))
+        return future
+
+    def restart(self) -> None:
+        self.restarts += 1
+
+    def close(self, cancel: bool = False) -> None:
+        return None
+
+
+def _record(task: str) -> tuple[Episode, EpisodeRecord]:
+    """The episode and an oracle's scored record of it."""
+    ep = make_episode(task, 0)
+    text = json.dumps(plan_to_json(ep.gt_plan))
+    info = EpisodeInfo("run", f"{task}/0/explicit", "explicit", "oracle", "h")
+    response = CachedResponse(key=info.key, prompt_hash="h", text=text)
+    return ep, scored_record(info, ep, response, ScoringConfig())
+
+
+def test_a_dead_worker_is_replaced_and_the_replay_sent_again() -> None:
+    ep, record = _record(FAST[0])
+    pool = _FlakyPool(breaks=1)
+    replays = Replays(pool)
+    assert replays.submit(ep, record) is None
+    assert replays.submit(ep, record.model_copy(update={"key": "same plan"})) is None
+    out = list(replays.drain())
+    assert pool.restarts == 1 and pool.submitted == 2  # the shared replay was sent again once
+    assert [r.execution.exec_success for r in out if r.execution] == [True, True]
+    assert replays.stats.crashes == 0
+
+
+def test_a_replay_that_keeps_killing_its_worker_is_recorded_as_a_crash() -> None:
+    ep, record = _record(FAST[0])
+    replays = Replays(_FlakyPool(breaks=MAX_ATTEMPTS))
+    replays.submit(ep, record)
+    (out,) = list(replays.drain())
+    assert out.execution is not None and not out.execution.exec_success
+    assert WORKER_DIED in (out.execution.failure_reason or "")
+    assert replays.stats.crashes == 1
+
+
+def test_a_record_without_a_plan_is_finished_at_once() -> None:
+    ep, record = _record(FAST[0])
+    no_plan = record.model_copy(update={"parse": None})
+    replays = Replays(InlinePool())
+    finished = replays.submit(ep, no_plan)
+    assert finished is not None and finished.execution is None and replays.in_flight == 0
+
+
+def test_plain_progress_lines_every_n_episodes() -> None:
+    buffer = io.StringIO()
+    console = Console(file=buffer, width=200)
+    with RunProgress(25, "run-x", every=10, console=console) as shown:
+        shown.skipped(3)
+        shown.replays_changed(4, 1, 2, 1)
+        for _ in range(22):
+            shown.generated(1)
+            shown.written(1)
+    lines = buffer.getvalue().splitlines()
+    assert len(lines) == 3  # at 13 and 23 written, and the end
+    assert lines[0].startswith(
+        "run-x 13/25 episodes | generated 13/25 | replays 1/4 done, 2 running, 1 queued | elapsed "
+    )
+    assert lines[-1].startswith("run-x 25/25 episodes")
+    assert "eta 0:00" in lines[-1]
+
+
+def _command(out: Path) -> list[str]:
+    args = [
+        sys.executable,
+        "-c",
+        "from vlm_bench.cli.main import main; main()",
+        "run",
+        "--model",
+        "oracle",
+        "--seeds",
+        "0",
+        "--resolution",
+        "48",
+        "--batch-size",
+        "1",
+        "--out",
+        str(out),
+        "--no-progress",
+        "--exec-workers",
+        "2",
+    ]
+    for task in FAST:
+        args += ["--task", task]
+    return args
+
+
+def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(tmp_path: Path) -> None:
+    killed_dir = tmp_path / "killed" / "run"
+    clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
+    env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
+    proc = subprocess.Popen(
+        _command(killed_dir),
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    records = killed_dir / "records.jsonl"
+    deadline = time.monotonic() + 240
+    while proc.poll() is None and time.monotonic() < deadline:
+        if records.exists() and records.read_bytes().count(b"\n") >= 1:
+            break
+        time.sleep(0.01)
+    assert proc.poll() is None, "the run ended before it could be killed"
+    os.killpg(proc.pid, signal.SIGKILL)  # the run and its replay workers
+    proc.wait()
+    at_kill = len(read_records(records))
+    assert 1 <= at_kill < len(FAST) * 2
+    for command in (_command(killed_dir), _command(clean_dir)):
+        done = subprocess.run(
+            command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=600, check=False
+        )
+        assert done.returncode == 0, done.stderr
+
+    def outcomes(path: Path) -> list[object]:
+        return [(_fields(r, "execution"), _outcome(r.execution)) for r in latest_records(path)]
+
+    got, want = outcomes(records), outcomes(clean_dir / "records.jsonl")
+    assert len(got) == len(FAST) * 2 and sorted(got, key=str) == sorted(want, key=str)
+    assert len(read_records(records)) == len(FAST) * 2  # each record written once
+    assert all(o[1] is not None for o in got)  # every record carries its execution

@@ -1,0 +1,313 @@
+"""Plan replays off the generation path (SPEC §7–§8): records' plans execute in a pool of
+worker processes (or on a Ray cluster, :mod:`vlm_bench.runner.replays_ray`) while the backend
+generates the next batches.
+
+A :class:`Replays` takes scored records, sends each usable plan to its pool once per episode
+(identical plans on the same episode, e.g. both instruction variants, share one replay) and
+hands back finished records, with their execution attached, in the order replays finish. The
+simulation is deterministic and every replay starts from the episode's freshly compiled scene,
+so an outcome does not depend on the pool, the number of workers or the order.
+
+``workers=0`` replays inline, in the calling process, when a record is submitted (no overlap:
+for debugging and for callers that need the result at once).
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+from collections.abc import Callable, Iterator
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from vlm_bench.runner.execution import PlanExecutor, crash_summary, record_plan
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
+from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
+from vlm_bench.types.records import EpisodeRecord
+
+MAX_ATTEMPTS = 3
+"""Times a replay is sent again after its worker process died (a pool breaks as a whole, so
+the replays in flight beside a crashing one are sent again too)."""
+WORKER_DIED = "executor worker died"
+
+
+@dataclass(frozen=True)
+class ReplayJob:
+    """One plan to execute on one episode (picklable: crosses to worker processes)."""
+
+    task_id: str
+    seed: int
+    uav_noise: float
+    steps: tuple[UavStep | ArmStep, ...]
+
+    @property
+    def key(self) -> str:
+        """Identity of the replay: episode, noise and plan."""
+        plan = json.dumps(plan_to_json(list(self.steps)), sort_keys=True)
+        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}:{plan}"
+
+
+Replayed = tuple[ExecutionSummary, str | None]
+"""A replay's summary and, where the executor raised, the message (the summary says so too)."""
+
+
+class ReplayPool(Protocol):
+    """Where replays run."""
+
+    workers: int
+    """Replays that run at once."""
+
+    def submit(self, job: ReplayJob) -> Future[Replayed]:
+        """Start ``job``; its future holds the outcome."""
+        ...
+
+    def restart(self) -> None:
+        """Replace workers that died (a no-op where none can)."""
+        ...
+
+    def close(self, cancel: bool = False) -> None:
+        """Wait for the replays in flight (or, with ``cancel``, drop them) and free the
+        workers."""
+        ...
+
+
+_EXECUTORS: dict[float, PlanExecutor] = {}
+"""Per process (each worker's own): one executor per noise level, which keeps the compiled
+scene of the episode it last replayed."""
+
+
+def replay(job: ReplayJob) -> Replayed:
+    """Execute ``job`` in this process (what every pool runs)."""
+    from vlm_bench.episodes import make_episode
+
+    executor = _EXECUTORS.get(job.uav_noise)
+    if executor is None:
+        executor = _EXECUTORS[job.uav_noise] = PlanExecutor(job.uav_noise)
+    episode = make_episode(job.task_id, job.seed)
+    return executor.run(episode, list(job.steps))
+
+
+def _init_worker() -> None:
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
+
+class InlinePool:
+    """Replays in the calling process, at submit (``--exec-workers 0``)."""
+
+    workers = 1
+
+    def submit(self, job: ReplayJob) -> Future[Replayed]:
+        future: Future[Replayed] = Future()
+        try:
+            future.set_result(replay(job))
+        except BaseException as exc:  # noqa: BLE001  (delivered through the future)
+            future.set_exception(exc)
+        return future
+
+    def restart(self) -> None:
+        return None
+
+    def close(self, cancel: bool = False) -> None:
+        return None
+
+
+class ProcessPool:
+    """Replays in ``workers`` worker processes of this machine (started with ``spawn``: the
+    parent may hold a GPU context or an EGL renderer that a fork must not inherit)."""
+
+    def __init__(self, workers: int) -> None:
+        self.workers = workers
+        self._pool = self._start()
+
+    def _start(self) -> ProcessPoolExecutor:
+        return ProcessPoolExecutor(
+            max_workers=self.workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=_init_worker,
+        )
+
+    def submit(self, job: ReplayJob) -> Future[Replayed]:
+        return self._pool.submit(replay, job)
+
+    def restart(self) -> None:
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        self._pool = self._start()
+
+    def close(self, cancel: bool = False) -> None:
+        if cancel:
+            for proc in list(getattr(self._pool, "_processes", {}).values()):
+                proc.terminate()  # a replay in flight takes seconds: do not wait for it
+        self._pool.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+def make_pool(options: ReplayOptions) -> ReplayPool:
+    """The pool ``options`` ask for: inline for 0 workers, else worker processes (default:
+    one per core), or Ray tasks on a cluster."""
+    workers = default_workers() if options.workers is None else options.workers
+    if options.backend == "ray":
+        from vlm_bench.runner.replays_ray import RayPool
+
+        pool: ReplayPool = RayPool(max(1, workers), options.ray_address)
+        return pool
+    if workers <= 0:
+        return InlinePool()
+    return ProcessPool(workers)
+
+
+def default_workers() -> int:
+    """The machine's cores (what ``--exec-workers`` defaults to)."""
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1)
+
+
+@dataclass
+class _Pending:
+    record: EpisodeRecord
+    job: ReplayJob
+    future: Future[Replayed]
+    attempts: int = 1
+
+
+@dataclass
+class ReplayStats:
+    """Counts of one :class:`Replays`."""
+
+    submitted: int = 0
+    """Records whose plans were sent (or shared a replay)."""
+    executed: int = 0
+    """Replays run (identical plans on one episode run once)."""
+    finished: int = 0
+    """Records handed back with their execution."""
+    crashes: int = 0
+    """Replays that ended in an executor exception (recorded as failures)."""
+    crash_messages: list[str] = field(default_factory=list)
+    """``key: reason`` of the first few crashes."""
+
+
+class Replays:
+    """Executes records' plans on a pool; hands records back as their replays finish.
+
+    Args:
+        pool: Where replays run.
+        uav_noise: Gust force std on the UAV (N) of every replay.
+        on_change: Called with (submitted, finished, running, queued) after every change
+            (progress displays).
+    """
+
+    def __init__(
+        self,
+        pool: ReplayPool,
+        uav_noise: float = 0.0,
+        on_change: Callable[[int, int, int, int], None] | None = None,
+    ) -> None:
+        self.pool = pool
+        self.uav_noise = uav_noise
+        self.stats = ReplayStats()
+        self._notify = on_change
+        self._pending: list[_Pending] = []
+        self._futures: dict[str, Future[Replayed]] = {}
+        """Replays by job key: a second record with the same plan waits on the first's."""
+
+    @property
+    def in_flight(self) -> int:
+        """Records waiting for their replay."""
+        return len(self._pending)
+
+    def running(self) -> int:
+        """Replays running now (the rest of those in flight are queued)."""
+        futures = {id(p.future): p.future for p in self._pending}.values()
+        return min(self.pool.workers, sum(1 for f in futures if f.running() or f.done()))
+
+    def submit(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord | None:
+        """Send ``record``'s plan to the pool; the record itself, with no execution, where it
+        has no usable plan (it is finished), else None (it comes back from :meth:`collect`)."""
+        steps = record_plan(record)
+        if steps is None:
+            return record.model_copy(update={"execution": None})
+        job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps))
+        future = self._futures.get(job.key)
+        if future is None:
+            future = self._futures[job.key] = self.pool.submit(job)
+            self.stats.executed += 1
+        self.stats.submitted += 1
+        self._pending.append(_Pending(record, job, future))
+        self._changed()
+        return None
+
+    def collect(self, block: bool = False) -> list[EpisodeRecord]:
+        """Records whose replays finished (with ``block``, waits for at least one while any
+        is in flight)."""
+        if block and self._pending and not any(p.future.done() for p in self._pending):
+            wait({p.future for p in self._pending}, return_when=FIRST_COMPLETED)
+        broken = [p for p in self._pending if _broken(p.future)]
+        while broken:
+            self._resend(broken)
+            broken = [p for p in broken if _broken(p.future)]
+        done: list[_Pending] = []
+        still: list[_Pending] = []
+        for p in self._pending:
+            (done if p.future.done() else still).append(p)
+        self._pending = still
+        out = [self._finish(p) for p in done]
+        if out:
+            self.stats.finished += len(out)
+        self._changed()
+        return out
+
+    def drain(self) -> Iterator[EpisodeRecord]:
+        """Every remaining record, as replays finish."""
+        while self._pending:
+            yield from self.collect(block=True)
+
+    def close(self, cancel: bool = False) -> None:
+        """Free the pool (``cancel``: drop the replays in flight, e.g. on Ctrl-C)."""
+        self.pool.close(cancel=cancel)
+
+    def _finish(self, p: _Pending) -> EpisodeRecord:
+        try:
+            summary, crash = p.future.result()
+        except Exception as exc:  # noqa: BLE001  (a replay failure must not kill the run)
+            summary, crash = crash_summary(exc, 0.0), f"{type(exc).__name__}: {exc}"
+        if crash is not None:
+            self._crashed(p.record.key, crash)
+        return p.record.model_copy(update={"execution": summary})
+
+    def _resend(self, broken: list[_Pending]) -> None:
+        """A worker process died, which breaks its whole pool: start new workers and send the
+        replays that were in flight again (one that has broken :data:`MAX_ATTEMPTS` pools
+        is recorded as a crash)."""
+        self.pool.restart()
+        renewed: dict[str, Future[Replayed]] = {}
+        for p in broken:
+            if p.attempts >= MAX_ATTEMPTS:
+                p.future = Future()
+                p.future.set_result((crash_summary(RuntimeError(WORKER_DIED), 0.0), WORKER_DIED))
+                continue
+            key = p.job.key
+            if key not in renewed:
+                renewed[key] = self._futures[key] = self.pool.submit(p.job)
+            p.future, p.attempts = renewed[key], p.attempts + 1
+
+    def _changed(self) -> None:
+        if self._notify is not None:
+            running = self.running()
+            in_flight = len({id(p.future) for p in self._pending})
+            s = self.stats
+            self._notify(s.submitted, s.finished, running, in_flight - running)
+
+    def _crashed(self, key: str, message: str) -> None:
+        self.stats.crashes += 1
+        if len(self.stats.crash_messages) < 5:
+            self.stats.crash_messages.append(f"{key}: {message}")
+
+
+def _broken(future: Future[Replayed]) -> bool:
+    """Whether ``future`` failed because its worker process died (or was dropped with it)."""
+    if not future.done():
+        return False
+    if future.cancelled():
+        return True
+    return isinstance(future.exception(), BrokenProcessPool)

@@ -1,0 +1,77 @@
+"""Replays on a Ray cluster (``--exec-backend ray``; needs the ``ray`` extra).
+
+Each replay is a Ray task of one CPU: Ray schedules the tasks over the cluster's nodes, retries
+a task whose worker process died (:data:`MAX_RETRIES`) and shows them in its dashboard. With no
+address, a local cluster of ``workers`` CPUs is started for the run and stopped after it; with
+one (``--ray-address ray://head:10001`` or ``auto``), the run joins that cluster, whose nodes
+need vlm-bench installed (see the README's two-machine recipe).
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+from typing import Any
+
+from vlm_bench.errors import ConfigError
+from vlm_bench.runner.replays import Replayed, ReplayJob, replay
+
+MAX_RETRIES = 2
+"""Times Ray runs a replay again after its worker process died."""
+
+
+class RayPool:
+    """Sends replays to Ray as tasks (the cluster is joined on the first replay).
+
+    Args:
+        workers: CPUs of the local cluster started when ``address`` is None (on a cluster:
+            only what the progress display counts as running).
+        address: The cluster's address; None = start a local one.
+    """
+
+    def __init__(self, workers: int, address: str | None = None) -> None:
+        self.workers = workers
+        self.address = address
+        self._ray: Any = None
+        self._task: Any = None
+        self._started = False
+        self._refs: list[Any] = []
+
+    def _connect(self) -> Any:
+        if self._ray is not None:
+            return self._ray
+        try:
+            import ray
+        except ImportError as exc:
+            raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'") from exc
+        if not ray.is_initialized():
+            env = {"env_vars": {"MUJOCO_GL": "egl"}}
+            if self.address is None:
+                ray.init(num_cpus=self.workers, runtime_env=env, include_dashboard=False)
+                self._started = True
+            else:
+                ray.init(address=self.address, runtime_env=env)
+        self._task = ray.remote(num_cpus=1, max_retries=MAX_RETRIES)(replay)
+        self._ray = ray
+        return ray
+
+    def submit(self, job: ReplayJob) -> Future[Replayed]:
+        self._connect()
+        ref = self._task.remote(job)
+        self._refs.append(ref)
+        future: Future[Replayed] = ref.future()
+        return future
+
+    def restart(self) -> None:
+        return None  # Ray restarts dead workers itself
+
+    def close(self, cancel: bool = False) -> None:
+        ray = self._ray
+        if ray is None:
+            return
+        if cancel:
+            for ref in self._refs:
+                ray.cancel(ref, force=True)
+        self._refs.clear()
+        if self._started:
+            ray.shutdown()
+        self._ray = None
