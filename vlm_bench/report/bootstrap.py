@@ -105,7 +105,8 @@ def cell_estimates(episodes: Episodes, weights: np.ndarray, order: Sequence[str]
     return cells
 
 
-def _interval(replicates: np.ndarray, level: float) -> tuple[float, float]:
+def percentile_interval(replicates: np.ndarray, level: float) -> tuple[float, float]:
+    """The central ``level`` percentile interval of the finite replicates (NaN if none)."""
     finite = replicates[np.isfinite(replicates)]
     if finite.size == 0:
         return float("nan"), float("nan")
@@ -159,7 +160,7 @@ def bootstrap_cis(
             )
             for (instruction, group), value in point.items():
                 counts = _counts(episodes, instruction, group)
-                lo, hi = _interval(reps[(instruction, group)], level)
+                lo, hi = percentile_interval(reps[(instruction, group)], level)
                 if counts.pop("fewest") < 2:  # one task: resampling cannot vary it
                     lo = hi = float("nan")
                 rows.append(

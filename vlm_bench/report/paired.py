@@ -20,7 +20,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from pydantic import Field
 
 from vlm_bench.errors import ConfigError, UnknownNameError
-from vlm_bench.report.bootstrap import Episodes, _interval, cell_estimates, multiplicities
+from vlm_bench.report.bootstrap import Episodes, cell_estimates, multiplicities, percentile_interval
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns, system_order, system_rows
 from vlm_bench.types.world import Frozen
@@ -151,7 +151,7 @@ def paired_comparison(
         grouping.order,
     )[key]
     counts = pd.Series(episodes.strata).value_counts()
-    lo, hi = _interval(reps, level) if counts.min() >= 2 else (math.nan, math.nan)
+    lo, hi = percentile_interval(reps, level) if counts.min() >= 2 else (math.nan, math.nan)
     return PairedComparison(**result, diff=float(point[0]), lo=lo, hi=hi)
 
 
