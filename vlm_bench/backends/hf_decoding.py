@@ -14,6 +14,18 @@ from typing import Any
 from vlm_bench.types.generation import GenerationConfig
 
 _SPECIAL_TOKENS = ("bos_token_id", "eos_token_id", "pad_token_id", "decoder_start_token_id")
+_NOT_DECODING = frozenset(
+    {
+        "transformers_version",
+        "use_cache",
+        "output_attentions",
+        "output_hidden_states",
+        "output_scores",
+        "output_logits",
+        "return_dict_in_generate",
+    }
+)
+"""Settings that change what generate returns or how fast, never which tokens."""
 
 
 def hf_generate_kwargs(config: GenerationConfig) -> dict[str, Any]:
@@ -44,6 +56,6 @@ def neutral_generation_config(transformers: Any, checkpoint: Any) -> tuple[Any, 
     dropped = {
         k: v
         for k, v in checkpoint.to_diff_dict().items()
-        if k not in _SPECIAL_TOKENS and k != "transformers_version" and not k.startswith("_")
+        if k not in _SPECIAL_TOKENS and k not in _NOT_DECODING and not k.startswith("_")
     }
     return neutral, dropped
