@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from vlm_bench.errors import ConfigError
+from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.records import EpisodeRecord
 from vlm_bench.types.run import RunConfig, RunManifest, run_config
 from vlm_bench.types.scores import ScoringConfig
@@ -103,6 +104,7 @@ def run(
     backend: Backend | None = None,
     snapshot_cache: Path | bool | None = True,
     progress: bool = False,
+    replay: ReplayOptions | None = None,
     **options: Any,
 ) -> RunResult:
     """Evaluate a model's plans on the benchmark, resuming the run folder if it exists.
@@ -114,7 +116,9 @@ def run(
         backend: A backend instance to use instead of resolving ``config.model``.
         snapshot_cache: PNG cache folder; True = ``.snapshots`` beside the run folder (or
             ``VLM_BENCH_SNAPSHOT_CACHE``); False/None = render every episode.
-        progress: Show a progress bar on stderr.
+        progress: Show progress on stderr.
+        replay: Where plans are replayed (default: one worker process per core, beside
+            generation; ``ReplayOptions(workers=0)`` replays inline).
         **options: :class:`RunConfig` fields when ``config`` is None (``model="oracle"``,
             ``execute=False`` to skip plan execution, ``uav_noise=2.0`` for gusts, ...).
 
@@ -137,6 +141,7 @@ def run(
         backend=backend,
         snapshot_cache=snapshot_cache,
         progress=progress,
+        replay=replay,
     )
     summary = write_summary(outcome.run_dir)
     s = outcome.stats

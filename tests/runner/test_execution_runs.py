@@ -18,7 +18,7 @@ from vlm_bench.report import EXEC_VALUES, SUMMARY_COLUMNS
 from vlm_bench.runner import PlanExecutor, episode_noise_seed, record_plan
 from vlm_bench.runner.execution import EXECUTOR_CRASH, executor_config
 from vlm_bench.storage import ConfigMismatchError, latest_records
-from vlm_bench.types.execution import ExecutionSummary
+from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.plan import Direction, UavStep
 from vlm_bench.types.records import EpisodeRecord
@@ -73,8 +73,8 @@ def test_run_records_executions_and_summary_columns(tmp_path: Path) -> None:
     assert hop.execution.sim_time_s > 1.0 and not hop.execution.exec_success
     assert refusal.ok and refusal.execution is None  # no plan: not executed
     assert result.stats["executed"] == 1 and result.stats["exec_crashes"] == 0
-    stored = latest_records(tmp_path / "run" / "records.jsonl")
-    assert [r.execution for r in stored] == [r.execution for r in result.records]
+    stored = latest_records(tmp_path / "run" / "records.jsonl")  # in the order replays ended
+    assert {r.key: r.execution for r in stored} == {r.key: r.execution for r in result.records}
 
     summary = pd.read_csv(tmp_path / "run" / "summary.csv")
     assert list(summary.columns) == [*SUMMARY_COLUMNS[:-2], *EXEC_VALUES, "n", "n_error"]
@@ -120,7 +120,8 @@ def test_an_executor_exception_is_a_recorded_failure(
         raise RuntimeError("boom")
 
     monkeypatch.setattr(vlm_bench.executor, "execute_plan", explode)
-    result = api.run(_config(), out=tmp_path / "run", backend=Scripted())
+    inline = ReplayOptions(workers=0)  # the patch lives in this process only
+    result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), replay=inline)
     hop = next(r for r in result.records if r.variant == "explicit")
     assert hop.ok and hop.execution is not None and not hop.execution.exec_success
     assert hop.execution.failure_reason == f"{EXECUTOR_CRASH} RuntimeError: boom"

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 from rich.console import Console
@@ -16,10 +16,29 @@ from vlm_bench.errors import ConfigError, UnknownNameError
 
 if TYPE_CHECKING:
     from vlm_bench.api import RunResult
+    from vlm_bench.types.execution import ReplayOptions
     from vlm_bench.types.task import InstructionVariant
 
 console = Console()
 _VIEWS = ("uav", "wrist", "overhead", "side")
+
+
+def replay_options(
+    workers: int | None, backend: str, address: str | None
+) -> ReplayOptions:
+    """``--exec-workers/--exec-backend/--ray-address`` checked (before anything is written)."""
+    import importlib.util
+
+    from vlm_bench.types.execution import ReplayOptions
+
+    if backend not in ("process", "ray"):
+        raise ConfigError(f"unknown --exec-backend {backend!r}; use process or ray")
+    if address is not None and backend != "ray":
+        raise ConfigError("--ray-address needs --exec-backend ray")
+    if backend == "ray" and importlib.util.find_spec("ray") is None:
+        raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'")
+    kind: Literal["process", "ray"] = "ray" if backend == "ray" else "process"
+    return ReplayOptions(workers=workers, backend=kind, ray_address=address)
 
 
 def parse_views(text: str) -> tuple[str, ...]:
@@ -130,6 +149,22 @@ def run(
             help="Gust force std on the UAV in N during execution (the paper's UAV Disturb.)."
         ),
     ] = 0.0,
+    exec_workers: Annotated[
+        int | None,
+        typer.Option(
+            min=0,
+            help="Plans replayed at once, beside generation (default: the machine's cores; "
+            "0 = one by one in this process).",
+        ),
+    ] = None,
+    exec_backend: Annotated[
+        str,
+        typer.Option(help="Where plans are replayed: process (this machine) or ray."),
+    ] = "process",
+    ray_address: Annotated[
+        str | None,
+        typer.Option(help="Ray cluster to replay on (--exec-backend ray; default: a local one)."),
+    ] = None,
 ) -> None:
     """Evaluate a model as a planner (and execute its plans); resumes the run folder."""
     from pydantic import ValidationError
@@ -167,10 +202,15 @@ def run(
         execute=execute,
         uav_noise=uav_noise,
     )
+    replay = replay_options(exec_workers, exec_backend, ray_address)
     run_dir = run_dir_for(config, out, run_name)
     try:
         result = api_run(
-            config, out=run_dir, snapshot_cache=not no_snapshot_cache, progress=progress
+            config,
+            out=run_dir,
+            snapshot_cache=not no_snapshot_cache,
+            progress=progress,
+            replay=replay,
         )
     except KeyboardInterrupt:
         print(

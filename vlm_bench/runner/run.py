@@ -14,7 +14,8 @@ from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
-from vlm_bench.runner.progress import progress_bar
+from vlm_bench.runner.progress import RunProgress
+from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.runner.selection import select_episodes
 from vlm_bench.runner.snapshots import SnapshotSource
 from vlm_bench.storage import (
@@ -26,6 +27,7 @@ from vlm_bench.storage import (
     package_versions,
 )
 from vlm_bench.storage.provenance import machine
+from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.records import EpisodeRecord, utc_now
 from vlm_bench.types.run import RunConfig, RunManifest
 
@@ -97,6 +99,7 @@ def execute_run(
     backend: Backend | None = None,
     snapshot_cache: Path | bool | None = True,
     progress: bool = True,
+    replay: ReplayOptions | None = None,
 ) -> RunOutcome:
     """Evaluate the configuration's episodes into ``run_dir``, resuming what is there.
 
@@ -106,7 +109,9 @@ def execute_run(
         backend: A backend instance to use instead of resolving ``config.model``.
         snapshot_cache: Folder of the shared PNG cache; True = the default
             (:func:`~vlm_bench.storage.default_snapshot_cache`), False/None = no cache.
-        progress: Show a progress bar on stderr.
+        progress: Show progress on stderr.
+        replay: Where plans are replayed (default: one worker process per core, overlapped
+            with generation).
 
     Raises:
         ConfigError: Invalid options (e.g. a resolution above the offscreen buffer).
@@ -132,11 +137,17 @@ def execute_run(
     with (
         RunStore.create_or_resume(run_dir, config, make_manifest(config, backend_name)) as store,
         _snapshot_source(config, cache_dir) as snapshots,
-        progress_bar(len(refs), f"{store.paths.run_id}", enabled=progress) as advance,
+        RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
+        replays = (
+            Replays(make_pool(replay or ReplayOptions()), config.uav_noise, shown.replays_changed)
+            if config.execute
+            else None
+        )
         try:
-            stats = EpisodePipeline(config, store, lazy, snapshots, advance, stop).run(refs)
+            pipeline = EpisodePipeline(config, store, lazy, snapshots, shown, stop, replays)
+            stats = pipeline.run(refs)
         finally:
             lazy.close()
         records = tuple(store.records[r.key] for r in refs if r.key in store.records)
