@@ -8,12 +8,16 @@ the processor around the image processor's PIL variant with no video processor (
 images, and never saved), so the backend can still drive it on CPU. ``save`` writes a folder
 that ``vlm-bench run --model <folder>`` loads; it needs torchvision for those five.
 
-Used by ``tests/backends/test_architectures.py`` and the scripts under ``benchmarks/``.
+The request layout, the count of image tokens per view and the CLI runs used to check them
+live here too: ``tests/backends/test_architectures.py`` and the scripts under ``benchmarks/``
+share them.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import io
+import json
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -468,3 +472,131 @@ ARCHS: tuple[TinyArch, ...] = (
     ),
 )
 """Every architecture with a tiny build, LLaVA first."""
+
+
+VIEWS = {
+    "uav": "UAV camera",
+    "wrist": "Wrist camera",
+    "overhead": "Overhead camera",
+    "side": "Side camera",
+}
+"""The four views and their labels, as the prompt's user turn writes them."""
+
+
+def png(color: tuple[int, int, int], size: int) -> bytes:
+    """A plain PNG of one colour."""
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.new("RGB", (size, size), color).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def four_view_requests(system: str, n: int, size: int = 112) -> list[Any]:
+    """``n`` requests laid out as a run's: each view's label, then its image; then the
+    instruction."""
+    from vlm_bench.types.generation import GenerationRequest, ImagePart
+    from vlm_bench.types.prompt import TextPart
+
+    out: list[Any] = []
+    for i in range(n):
+        parts: list[Any] = []
+        for k, (view, title) in enumerate(VIEWS.items()):
+            color = (60 * k, (255 - 40 * i) % 256, (30 * i) % 256)
+            parts += [
+                TextPart(text=f"{title} ({view}):\n"),
+                ImagePart(view=view, png=png(color, size)),
+            ]
+        parts.append(TextPart(text=f"Instruction: put object {i} in the basket."))
+        out.append(GenerationRequest(id=f"r{i}", system=system, user=tuple(parts)))
+    return out
+
+
+def tokens_per_view(processor: Any, image_id: int, system: str, size: int = 112) -> int:
+    """Image tokens the processor gives each view of one four-view request encoded alone (all
+    views share a size; LLaVA-OneVision gives an image fewer tokens when it is one of many)."""
+    from PIL import Image
+
+    from vlm_bench.backends.hf import hf_messages
+
+    request = four_view_requests(system, 1, size)[0]
+    images = [Image.open(io.BytesIO(p.png)).convert("RGB") for p in request.images()]
+    text = processor.apply_chat_template(
+        hf_messages(request, images), add_generation_prompt=True, tokenize=False
+    )
+    encoded = processor(text=[text], images=[images], return_tensors="pt")
+    total = int((encoded["input_ids"] == image_id).sum())
+    if total % len(VIEWS):
+        raise AssertionError(f"{total} image tokens do not split over {len(VIEWS)} views")
+    return total // len(VIEWS)
+
+
+def image_runs(ids: Sequence[int], image_id: int) -> list[tuple[int, int]]:
+    """(start, length) of each run of image tokens in a prompt."""
+    runs: list[tuple[int, int]] = []
+    for i, tok in enumerate(ids):
+        if tok == image_id:
+            if runs and runs[-1][0] + runs[-1][1] == i:
+                runs[-1] = (runs[-1][0], runs[-1][1] + 1)
+            else:
+                runs.append((i, 1))
+    return runs
+
+
+def views_reaching_the_model(
+    rows: Sequence[Sequence[int]], tokenizer: Any, image_id: int
+) -> list[list[tuple[str, int]]]:
+    """Per prompt: (the label before each image block, the block's image tokens)."""
+    out: list[list[tuple[str, int]]] = []
+    for ids in rows:
+        seen: list[tuple[str, int]] = []
+        for start, length in image_runs(ids, image_id):
+            before = tokenizer.decode(list(ids[max(0, start - 12) : start]))
+            label = next((view for view in VIEWS if f"({view}):" in before), "")
+            seen.append((label, length))
+        out.append(seen)
+    return out
+
+
+@contextmanager
+def encoded_prompts() -> Iterator[list[list[int]]]:
+    """Collect the token ids of every prompt the hf backend encodes (padding dropped)."""
+    from vlm_bench.backends.hf import HfBackend
+
+    rows: list[list[int]] = []
+    real = HfBackend._encode
+
+    def encode(self: HfBackend, batch: Any) -> Any:
+        inputs = real(self, batch)
+        mask = inputs["attention_mask"].bool()
+        rows.extend(ids[m].tolist() for ids, m in zip(inputs["input_ids"], mask, strict=True))
+        return inputs
+
+    HfBackend._encode = encode  # type: ignore[method-assign]
+    try:
+        yield rows
+    finally:
+        HfBackend._encode = real  # type: ignore[method-assign]
+
+
+def cli_run(out: Path, model: Path, batch_size: int, *extra: str) -> None:
+    """``vlm-bench run --model <folder>`` on 8 episodes (standard_pick_place, seeds 0-3, both
+    instructions), planning only, in this process."""
+    from typer.testing import CliRunner
+
+    from vlm_bench.cli.main import _register, app
+
+    if not any(c.name == "run" for c in app.registered_commands):
+        _register()
+    args = ["run", "--model", str(model), "--task", "standard_pick_place", "--seeds", "0-3"]
+    args += ["--k-shot", "0", "--no-execute", "--no-progress", "--max-new-tokens", "6"]
+    args += ["--batch-size", str(batch_size), "--out", str(out), *extra]
+    result = CliRunner().invoke(app, args, catch_exceptions=False)
+    if result.exit_code != 0:
+        raise RuntimeError(f"vlm-bench run failed ({result.exit_code}): {result.output}")
+
+
+def run_outputs(run: Path) -> dict[str, str]:
+    """Episode key -> raw output of a run folder's records."""
+    lines = (run / "records.jsonl").read_text().splitlines()
+    return {r["key"]: r["raw_output"] for r in map(json.loads, lines)}
