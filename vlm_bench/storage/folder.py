@@ -18,7 +18,7 @@ from pathlib import Path
 from filelock import FileLock, Timeout
 from pydantic import ValidationError
 
-from vlm_bench.errors import DataFileError, VlmBenchError
+from vlm_bench.errors import ConfigError, DataFileError, VlmBenchError
 from vlm_bench.storage.jsonl import write_text_atomic
 from vlm_bench.types.run import RunConfig, RunManifest, config_differences
 
@@ -77,6 +77,26 @@ class RunPaths:
         return self.root / "summary.csv"
 
 
+def make_run_folder(root: Path) -> None:
+    """Create ``root`` (and its parents) unless it is a folder already.
+
+    Raises:
+        NotARunError: ``root`` is a file.
+        ConfigError: A folder above it is a file, or it cannot be created (names the path).
+    """
+    if root.is_dir():
+        return
+    if root.exists():
+        raise NotARunError(f"{root} is a file, not a run folder; choose a new or empty folder")
+    blocking = next((p for p in root.parents if p.exists() and not p.is_dir()), None)
+    if blocking is not None:
+        raise ConfigError(f"cannot create run folder {root}: {blocking} is a file")
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ConfigError(f"cannot create run folder {root}: {exc.strerror}") from None
+
+
 def acquire_lock(paths: RunPaths) -> FileLock:
     """Take the folder's writer lock without waiting.
 
@@ -84,8 +104,9 @@ def acquire_lock(paths: RunPaths) -> FileLock:
 
     Raises:
         RunLockedError: Another process (or another open store in this one) holds it.
+        NotARunError, ConfigError: The folder cannot be created (see :func:`make_run_folder`).
     """
-    paths.root.mkdir(parents=True, exist_ok=True)
+    make_run_folder(paths.root)
     lock = FileLock(str(paths.lock), timeout=0)
     try:
         lock.acquire()
@@ -109,6 +130,8 @@ def read_manifest(paths: RunPaths) -> RunManifest:
     try:
         data = json.loads(paths.manifest.read_text(encoding="utf-8"))
         return RunManifest.model_validate(data)
+    except UnicodeDecodeError:
+        raise DataFileError(str(paths.manifest), "not UTF-8 text") from None
     except json.JSONDecodeError as exc:
         raise DataFileError(str(paths.manifest), f"invalid JSON ({exc.msg})") from None
     except ValidationError as exc:
@@ -122,8 +145,9 @@ def write_manifest(paths: RunPaths, manifest: RunManifest) -> None:
     write_text_atomic(paths.manifest, manifest.model_dump_json(indent=2) + "\n")
 
 
-def check_compatible(paths: RunPaths, stored: RunManifest, config: RunConfig,
-                     new: RunManifest) -> None:
+def check_compatible(
+    paths: RunPaths, stored: RunManifest, config: RunConfig, new: RunManifest
+) -> None:
     """Refuse to resume a run whose config or shipped data differ from the stored ones.
 
     Raises:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from types import TracebackType
@@ -30,10 +31,15 @@ class RunStore:
     durable per line; :meth:`close` (or leaving the ``with`` block) releases the lock.
     """
 
-    def __init__(self, paths: RunPaths, lock: FileLock, manifest: RunManifest) -> None:
+    def __init__(
+        self, paths: RunPaths, lock: FileLock, manifest: RunManifest, *, created: bool = False
+    ) -> None:
         self.paths = paths
         self.manifest = manifest
         self._lock = lock
+        self.created = created
+        """This store wrote the manifest: the run started here (see :meth:`__exit__`)."""
+        self._made_root = False
         self.repaired_bytes = repair_tail(paths.records) + repair_tail(paths.responses)
         self.records: dict[str, EpisodeRecord] = {r.key: r for r in latest_records(paths.records)}
         self.responses: dict[tuple[str, str], CachedResponse] = read_responses(paths.responses)
@@ -58,24 +64,34 @@ class RunStore:
             DataFileError: A corrupted manifest or record file (names file and field).
         """
         paths = RunPaths(root)
-        if root.is_dir() and not paths.manifest.exists() and any(
-            p.name != paths.lock.name for p in root.iterdir()
+        if (
+            root.is_dir()
+            and not paths.manifest.exists()
+            and any(p.name != paths.lock.name for p in root.iterdir())
         ):
-            raise NotARunError(f"{root} is not empty and holds no vlm-bench run (no "
-                               "manifest.json); choose a new or empty folder")
+            raise NotARunError(
+                f"{root} is not empty and holds no vlm-bench run (no "
+                "manifest.json); choose a new or empty folder"
+            )
+        made_root = not root.exists()
         lock = acquire_lock(paths)
         try:
             manifest = make_manifest(paths.run_id)
-            if paths.manifest.exists():
+            created = not paths.manifest.exists()
+            if created:
+                write_manifest(paths, manifest)
+            else:
                 stored = read_manifest(paths)
                 check_compatible(paths, stored, config, manifest)
                 manifest = stored
-            else:
-                write_manifest(paths, manifest)
-            return cls(paths, lock, manifest)
+            store = cls(paths, lock, manifest, created=created)
         except BaseException:
             lock.release()
+            if made_root:
+                _remove_start(paths, made_root)
             raise
+        store._made_root = made_root
+        return store
 
     @classmethod
     def open_existing(cls, root: Path) -> Self:
@@ -138,8 +154,35 @@ class RunStore:
     def __enter__(self) -> Self:
         return self
 
+    def discard_start(self) -> bool:
+        """Close, and remove the run this store started if no model answer or record was
+        written: a failed start leaves no folder behind (a retry starts clean, even with other
+        options). Returns True when the run was removed."""
+        self.close()
+        if not self.created or any(
+            p.exists() and p.stat().st_size > 0 for p in (self.paths.records, self.paths.responses)
+        ):
+            return False
+        _remove_start(self.paths, self._made_root)
+        return True
+
     def __exit__(
-        self, exc_type: type[BaseException] | None, exc: BaseException | None,
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
         tb: TracebackType | None,
     ) -> None:
-        self.close()
+        if exc_type is None:
+            self.close()
+        else:
+            self.discard_start()
+
+
+def _remove_start(paths: RunPaths, made_root: bool) -> None:
+    """Delete what starting a run writes (manifest, empty record files, lock), and the folder
+    when the start created it and nothing else is in it."""
+    for path in (paths.manifest, paths.records, paths.responses, paths.lock):
+        path.unlink(missing_ok=True)
+    if made_root:
+        with contextlib.suppress(OSError):  # something else was put there meanwhile: keep it
+            paths.root.rmdir()
