@@ -17,6 +17,7 @@ from pathlib import Path
 from pydantic import Field, model_validator
 
 from vlm_bench.backends.base import Backend, BackendArgs
+from vlm_bench.catalog.files import not_utf8
 from vlm_bench.catalog.skills import skills
 from vlm_bench.errors import ConfigError, DataFileError
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
@@ -143,6 +144,8 @@ def _load_script(path: Path) -> dict[str, tuple[str, str | None]]:
         lines = path.read_text(encoding="utf-8").splitlines()
     except OSError as exc:
         raise DataFileError(str(path), f"cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise DataFileError(str(path), not_utf8(exc)) from None
     script: dict[str, tuple[str, str | None]] = {}
     for n, line in enumerate(lines, start=1):
         if not line.strip():

@@ -20,12 +20,19 @@ def _location(loc: tuple[int | str, ...]) -> str:
     return out or "(root)"
 
 
+def not_utf8(exc: UnicodeDecodeError) -> str:
+    """What is wrong with a file that is not UTF-8 text, and where."""
+    return f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at offset {exc.start})"
+
+
 def read_json(path: Path) -> object:
     """Parse a JSON file; raises :class:`DataFileError` naming the file on failure."""
     try:
         return json.loads(path.read_text(encoding="utf-8"))
     except OSError as exc:
         raise DataFileError(str(path), f"cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise DataFileError(str(path), not_utf8(exc)) from None
     except json.JSONDecodeError as exc:
         raise DataFileError(str(path), f"invalid JSON at line {exc.lineno}: {exc.msg}") from None
 

@@ -9,6 +9,7 @@ from typing import Any
 
 import jinja2
 
+from vlm_bench.catalog.files import not_utf8
 from vlm_bench.errors import DataFileError
 from vlm_bench.resources import prompts_dir
 
@@ -51,6 +52,8 @@ def render(name: str, **context: Any) -> str:
         raise DataFileError(str(path), f"undefined variable: {exc.message}") from None
     except jinja2.TemplateSyntaxError as exc:
         raise DataFileError(str(path), f"line {exc.lineno}: {exc.message}") from None
+    except UnicodeDecodeError as exc:
+        raise DataFileError(str(path), not_utf8(exc)) from None
 
 
 @cache

@@ -16,11 +16,19 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import re
 from datetime import datetime
 from typing import Any
 
-from pydantic import ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.generation import GenerationConfig
@@ -66,8 +74,31 @@ def is_secret_arg(name: str) -> bool:
     return bool(_SECRET.search(name))
 
 
+def non_finite_field(value: Any, path: str = "") -> tuple[str, float] | None:
+    """The dotted path and value of the first NaN or infinite float in ``value`` (a model,
+    mapping or sequence, walked recursively), or None: JSON has no such numbers."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else (path, value)
+    if isinstance(value, BaseModel):
+        items: Any = ((name, getattr(value, name)) for name in type(value).model_fields)
+    elif isinstance(value, dict):
+        items = value.items()
+    elif isinstance(value, (list, tuple)):
+        items = enumerate(value)
+    else:
+        return None
+    for key, item in items:
+        found = non_finite_field(item, f"{path}.{key}" if path else str(key))
+        if found is not None:
+            return found
+    return None
+
+
 class RunConfig(Frozen):
     """Everything that defines a run: model, episode selection, prompt, decoding, scoring."""
+
+    # Written to manifest.json, where NaN and infinity have no JSON form.
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
     model: str = Field(min_length=1, description="Model string: HF id/path, openai/<name>, ...")
     backend_args: dict[str, str] = Field(
@@ -132,6 +163,13 @@ class RunConfig(Frozen):
     def _tasks_or_suite(self) -> RunConfig:
         if self.tasks and self.suite is not None:
             raise ValueError("give tasks or a suite, not both")
+        return self
+
+    @model_validator(mode="after")
+    def _finite_numbers(self) -> RunConfig:
+        found = non_finite_field(self)
+        if found is not None:
+            raise ValueError(f"{found[0]} must be a finite number, got {found[1]}")
         return self
 
     @model_validator(mode="after")
@@ -227,7 +265,7 @@ class RunManifest(Frozen):
     """``manifest.json`` of a run folder: config and provenance, written when the run starts."""
 
     # Manifests are read back by later releases: ignore fields this release does not know.
-    model_config = ConfigDict(frozen=True, extra="ignore")
+    model_config = ConfigDict(frozen=True, extra="ignore", allow_inf_nan=False)
 
     schema_version: int = Field(default=RUN_SCHEMA_VERSION, description="Manifest layout version.")
     run_id: str = Field(description="Run id (the run folder's name).")
