@@ -9,15 +9,18 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.backends import Backend, resolve_backend, split_model
+from vlm_bench.backends import Backend, resolve_backend
+from vlm_bench.backends.preflight import BackendCheck, check_backend, loads_model_in_process
 from vlm_bench.backends.rules_planner import NO_SCENE
-from vlm_bench.errors import ConfigError
+from vlm_bench.errors import ConfigError, VlmBenchError
 from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.runner.selection import select_episodes
 from vlm_bench.runner.snapshots import SnapshotSource
+from vlm_bench.sim.gl_preload import preload_before_gl
+from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.storage import (
     RunStore,
     SnapshotCache,
@@ -63,6 +66,25 @@ def make_manifest(config: RunConfig, backend_name: str) -> Callable[[str], RunMa
     return build
 
 
+def _load_backend(config: RunConfig) -> Backend:
+    """Build the run's backend; a model that fails to load is a one-line error naming it.
+
+    Raises:
+        ConfigError: The backend's loader raised (e.g. a corrupt checkpoint, an unsupported
+            architecture, a server refusing the model); the message keeps its first line.
+    """
+    try:
+        return resolve_backend(config.model, config.backend_args)
+    except VlmBenchError:
+        raise
+    except Exception as exc:  # noqa: BLE001  (loaders raise anything: OSError, ValueError, ...)
+        lines = str(exc).strip().splitlines()
+        detail = lines[0][:300] if lines else ""
+        raise ConfigError(
+            f"cannot load model {config.model!r}: {type(exc).__name__}: {detail}"
+        ) from None
+
+
 class _LazyBackend:
     """Builds the backend on first use (a finished resume never loads the model)."""
 
@@ -73,12 +95,21 @@ class _LazyBackend:
 
     def __call__(self) -> Backend:
         if self.backend is None:
-            self.backend = resolve_backend(self.config.model, self.config.backend_args)
+            self.backend = _load_backend(self.config)
         return self.backend
 
     def close(self) -> None:
         if self.owned and self.backend is not None:
             self.backend.close()
+
+
+def _check_backend(config: RunConfig, given: Backend | None) -> BackendCheck:
+    """The run's backend, checked without loading a model (a given instance is trusted)."""
+    if given is not None:
+        return BackendCheck(given.name, config.model, loads_model_in_process(given.name))
+    return check_backend(
+        config.model, config.backend_args, constrained=config.generation.constrained
+    )
 
 
 @contextmanager
@@ -113,8 +144,13 @@ def execute_run(
         replay: Where plans are replayed (default: one worker process per core, overlapped
             with generation).
 
+    A start that fails before any episode is written removes the folder it created, so the
+    corrected command starts clean.
+
     Raises:
-        ConfigError: Invalid options (e.g. a resolution above the offscreen buffer).
+        ConfigError: Invalid options (e.g. a resolution above the offscreen buffer), an unknown
+            model or a bad backend argument (checked before the folder is written).
+        MissingExtraError: The backend's optional dependency is not installed.
         UnknownNameError: Unknown task ids.
         RunLockedError: Another process writes the folder.
         ConfigMismatchError: The folder holds a run with another configuration.
@@ -127,9 +163,13 @@ def execute_run(
             f"buffer; use at most {OFFSCREEN_SIZE}"
         )
     refs = select_episodes(config)
-    backend_name = backend.name if backend is not None else split_model(config.model)[0]
+    checked = _check_backend(config, backend)  # before the folder is written
+    backend_name = checked.name
     if backend_name == "rules" and not config.scene_as_text:
-        raise ConfigError(NO_SCENE)  # before the folder is written
+        raise ConfigError(NO_SCENE)
+    route_mujoco_log()
+    if checked.loads_model:
+        preload_before_gl()  # before the first snapshot creates an EGL context
     cache_dir = (
         default_snapshot_cache(run_dir) if snapshot_cache is True else snapshot_cache or None
     )
