@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from vlm_bench.cli.options import parse_seed, parse_variant
+from vlm_bench.cli.options import finite, parse_seed, parse_variant, writable_file
 from vlm_bench.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -128,8 +128,14 @@ def execute(
 ) -> None:
     """Replay one plan (a file, or the GT plan) in the simulator; optionally film it."""
     from vlm_bench.api import replay
+    from vlm_bench.sim.mujoco_log import route_mujoco_log
 
+    finite("--uav-noise", uav_noise)
+    finite("--fps", fps)
+    if video is not None:  # before the simulation: its outcome must not be lost to a bad path
+        writable_file("--video", video, make_folder=False)
     text, source = _read_plan(plan)
+    route_mujoco_log()
     result = replay(
         task,
         parse_seed(seed),

@@ -2,24 +2,33 @@
 
 from __future__ import annotations
 
+import math
+from pathlib import Path
+
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
+MAX_SEED = 2**32 - 1
+"""Largest episode seed (seeds are stored as integers every reader handles)."""
+
+MAX_SEEDS = 10_000
+"""Most seeds one run takes (each seed is 120 episodes)."""
+
 
 def parse_seed(text: str) -> int:
-    """A non-negative integer seed."""
+    """A seed: an integer in 0..MAX_SEED."""
     try:
         value = int(text)
     except ValueError:
         raise ConfigError(f"seed must be a non-negative integer, got {text!r}") from None
-    if value < 0:
-        raise ConfigError(f"seed must be a non-negative integer, got {text!r}")
+    if not 0 <= value <= MAX_SEED:
+        raise ConfigError(f"seed must be an integer in 0..{MAX_SEED}, got {text!r}")
     return value
 
 
 def parse_seeds(text: str) -> list[int]:
-    """Seeds as ``0,1,5`` or a range ``0-9``."""
-    out: list[int] = []
+    """Seeds as ``0,1,5`` or a range ``0-9`` (at most MAX_SEEDS in all)."""
+    out: set[int] = set()
     for part in text.split(","):
         part = part.strip()
         if "-" in part[1:]:
@@ -27,12 +36,55 @@ def parse_seeds(text: str) -> list[int]:
             a, b = parse_seed(lo), parse_seed(hi)
             if b < a:
                 raise ConfigError(f"empty seed range {part!r}")
-            out.extend(range(a, b + 1))
+            if b - a + 1 + len(out) > MAX_SEEDS:
+                raise ConfigError(f"too many seeds in {text!r}: at most {MAX_SEEDS} per run")
+            out.update(range(a, b + 1))
         elif part:
-            out.append(parse_seed(part))
+            out.add(parse_seed(part))
+            if len(out) > MAX_SEEDS:
+                raise ConfigError(f"too many seeds in {text!r}: at most {MAX_SEEDS} per run")
     if not out:
         raise ConfigError("no seeds given")
-    return out
+    return sorted(out)
+
+
+def finite(option: str, value: float) -> float:
+    """``value`` when it is a finite number (JSON and the simulator have no NaN or infinity).
+
+    Raises:
+        ConfigError: Names the option, e.g. ``--uav-noise must be a finite number, got inf``.
+    """
+    if not math.isfinite(value):
+        raise ConfigError(f"{option} must be a finite number, got {value}")
+    return value
+
+
+def writable_folder(option: str, folder: Path) -> None:
+    """Check that ``folder`` is, or can be made, a folder (before any work is done).
+
+    Raises:
+        ConfigError: ``folder`` or a folder above it is a file (names the option and the path).
+    """
+    if folder.exists() and not folder.is_dir():
+        raise ConfigError(f"{option} {folder} is a file, not a folder")
+    blocking = next((p for p in folder.parents if p.exists() and not p.is_dir()), None)
+    if blocking is not None:
+        raise ConfigError(f"{option} {folder}: {blocking} is a file, not a folder")
+
+
+def writable_file(option: str, path: Path, *, make_folder: bool) -> None:
+    """Check that ``path`` can be written as a file: not a folder, and its folder exists (or
+    can be made, when ``make_folder``).
+
+    Raises:
+        ConfigError: Names the option and the path.
+    """
+    if path.is_dir():
+        raise ConfigError(f"{option} {path} is a folder; give a file name")
+    if make_folder:
+        writable_folder(option, path.parent)
+    elif not path.parent.is_dir():
+        raise ConfigError(f"{option} {path}: folder {path.parent} does not exist")
 
 
 def parse_suite(text: str | None) -> Suite | None:
@@ -65,3 +117,15 @@ def parse_variant(text: str) -> InstructionVariant:
         if norm == variant:
             return variant
     raise UnknownNameError("instruction variant", text, INSTRUCTION_VARIANTS)
+
+
+def image_file(option: str, path: Path) -> None:
+    """Check that ``path`` names an image format Pillow writes (``.png``, ``.jpg``, ...).
+
+    Raises:
+        ConfigError: Names the option and the suffix.
+    """
+    from PIL import Image
+
+    if path.suffix.lower() not in Image.registered_extensions():
+        raise ConfigError(f"{option} {path}: unknown image format {path.suffix!r}; use .png")

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 from rich.console import Console
 
-from vlm_bench.cli.options import parse_seed, parse_seeds, parse_suite, parse_variant
+from vlm_bench.cli.options import finite, parse_seed, parse_seeds, parse_suite, parse_variant
 from vlm_bench.errors import ConfigError, UnknownNameError
 
 if TYPE_CHECKING:
@@ -23,9 +23,7 @@ console = Console()
 _VIEWS = ("uav", "wrist", "overhead", "side")
 
 
-def replay_options(
-    workers: int | None, backend: str, address: str | None
-) -> ReplayOptions:
+def replay_options(workers: int | None, backend: str, address: str | None) -> ReplayOptions:
     """``--exec-workers/--exec-backend/--ray-address`` checked (before anything is written)."""
     import importlib.util
 
@@ -120,8 +118,7 @@ def run(
         bool,
         typer.Option(
             "--scene-as-text",
-            help="Give every object's position in the UAV body frame as text (perfect "
-            "perception).",
+            help="Give every object's position in the UAV body frame as text (perfect perception).",
         ),
     ] = False,
     constrained: Annotated[bool, typer.Option(help="JSON-schema constrained decoding.")] = False,
@@ -175,6 +172,8 @@ def run(
     from vlm_bench.types.generation import GenerationConfig
     from vlm_bench.types.run import run_config
 
+    finite("--temperature", temperature)
+    finite("--uav-noise", uav_noise)
     try:
         generation = GenerationConfig(
             max_new_tokens=max_new_tokens,
@@ -231,7 +230,9 @@ def rescore(
     """Recompute parses, scores and executions from the response cache (no model calls)."""
     from vlm_bench.api import rescore as api_rescore
     from vlm_bench.resources import results_dir
+    from vlm_bench.sim.mujoco_log import route_mujoco_log
 
+    route_mujoco_log()  # rescoring replays plans
     path = Path(run_dir)
     if not path.exists() and (results_dir() / run_dir).exists():
         path = results_dir() / run_dir

@@ -10,7 +10,15 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from vlm_bench.cli.options import parse_seed, parse_suite, parse_variant
+from vlm_bench.cli.options import (
+    image_file,
+    parse_seed,
+    parse_suite,
+    parse_variant,
+    writable_file,
+    writable_folder,
+)
+from vlm_bench.errors import ConfigError
 
 console = Console()
 
@@ -97,9 +105,11 @@ def render(
     from vlm_bench.episodes import make_episode
     from vlm_bench.sim.snapshots import render_episode, save_views
 
+    writable_folder("--out", out)
+    variant = parse_variant(instruction)
     ep = make_episode(task, parse_seed(seed))
     views = render_episode(ep, size=size)
-    title = f"{ep.task_id} · seed {ep.seed} · {ep.instruction(parse_variant(instruction))}"
+    title = f"{ep.task_id} · seed {ep.seed} · {ep.instruction(variant)}"
     paths = save_views(views, out, title=title)
     for path in paths:
         typer.echo(str(path))
@@ -121,6 +131,10 @@ def sheet(
     from vlm_bench.episodes import make_episode
     from vlm_bench.sim.snapshots import episode_sheet
 
+    writable_file("--out", out, make_folder=True)
+    image_file("--out", out)
+    if columns < 1:
+        raise ConfigError(f"--columns must be at least 1, got {columns}")
     chosen = [get_task(t) for t in task] if task else tasks_in(parse_suite(suite))
     episodes = [make_episode(t, parse_seed(seed)) for t in chosen]
     image = episode_sheet(episodes, view=view, size=size, columns=columns)
