@@ -9,6 +9,7 @@ without torchvision (``benchmarks/architectures_gpu.py`` runs them all on a GPU 
 from __future__ import annotations
 
 import importlib.util
+import json
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -120,6 +121,10 @@ def test_vlm_bench_run_end_to_end(built: tuple[Any, Any], tmp_path: Path) -> Non
         tiny.cli_run(tmp_path / "batch8", model, 8, "--resolution", "112")
     one, eight = tiny.run_outputs(tmp_path / "batch1"), tiny.run_outputs(tmp_path / "batch8")
     assert len(one) == 8 and eight == one
+    records = [json.loads(line) for line in (tmp_path / "batch8/records.jsonl").open()]
+    batch = records[0]["batch_latency_s"]  # one batch of 8: each record holds an eighth of it
+    assert batch > 0 and all(r["batch_latency_s"] == batch for r in records)
+    assert sum(r["latency_s"] for r in records) == pytest.approx(batch)
     processor = parts.processor()
     per_view = tiny.tokens_per_view(processor, parts.image_token_id, "")
     assert len(rows) == 16
