@@ -128,6 +128,7 @@ def test_world_pairs_are_never_reported() -> None:
     episode = make_episode("standard_pick_place", 0)
     scene = episode_scene(episode, executor_config(episode, 0.0))
     model = __import__("copy").copy(scene.model)
+    model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)  # resting objects report
     data = mujoco.MjData(model)
     data.qpos[:] = scene.data.qpos
     for _ in range(250):  # the objects settle onto their tables
