@@ -92,8 +92,7 @@ class UavController:
         self._dof = int(joint.dofadr[0])
         self._rot_diag = np.array([_diag_index(model, self._dof + 3 + k) for k in range(3)])
         self.mass = float(model.body_subtreemass[self.body])
-        self._gravity = np.array(model.opt.gravity, dtype=np.float64)
-        self._grav = tuple(float(x) for x in self._gravity)
+        self._grav = tuple(float(x) for x in model.opt.gravity)
         self._dt = float(model.opt.timestep)
         # Bodies under the base whose weight gravcomp hides from it.
         subtree = robot_body_ids(model)
