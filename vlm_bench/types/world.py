@@ -4,17 +4,11 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
-Vec3 = tuple[float, float, float]
-RGBA = tuple[float, float, float, float]
+from vlm_bench.types.base import RGBA, Frozen, Vec3
+
 SNAKE = r"^[a-z][a-z0-9_]*$"
-
-
-class Frozen(BaseModel):
-    """Base for immutable data models that reject unknown fields."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
 
 
 class PartSpec(Frozen):

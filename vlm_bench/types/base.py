@@ -1,0 +1,20 @@
+"""Small shared types: the base of every data model and the vector aliases used across layers."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import BaseModel, ConfigDict
+
+Vec3 = tuple[float, float, float]
+"""A point or direction in metres (x, y, z), as stored in data files."""
+RGBA = tuple[float, float, float, float]
+"""A colour with alpha, each channel in [0, 1]."""
+FloatArray = NDArray[np.float64]
+"""A float64 numpy array (positions, joint angles, rotation matrices) inside the simulator."""
+
+
+class Frozen(BaseModel):
+    """Base for immutable data models that reject unknown fields."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
