@@ -24,8 +24,9 @@ from PIL import Image, ImageDraw
 from vlm_bench.catalog.world import object_kinds
 from vlm_bench.sim.objects import add_object
 from vlm_bench.sim.objects.base import shade
+from vlm_bench.types.base import Vec3
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import ObjectKind, Vec3
+from vlm_bench.types.world import ObjectKind
 
 FLOOR = (0.62, 0.62, 0.6, 1.0)
 LABEL_H = 22

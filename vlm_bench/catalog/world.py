@@ -7,7 +7,8 @@ from functools import cache
 from vlm_bench.catalog.files import load_model
 from vlm_bench.errors import UnknownNameError
 from vlm_bench.resources import ground_truth_dir
-from vlm_bench.types.world import RGBA, EnvironmentSpec, ObjectKind, WorldCatalog
+from vlm_bench.types.base import RGBA
+from vlm_bench.types.world import EnvironmentSpec, ObjectKind, WorldCatalog
 
 
 @cache

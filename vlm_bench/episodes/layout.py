@@ -9,9 +9,9 @@ import numpy as np
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.episodes.geometry import rect_corners, rects_overlap
 from vlm_bench.rules import rotate_xy
+from vlm_bench.types.base import Vec3
 from vlm_bench.types.episode import EpisodeObject, PartRef
 from vlm_bench.types.task import PlacedObject, TaskSpec
-from vlm_bench.types.world import Vec3
 
 POS_JITTER = 0.03  # m, per axis, movable objects
 YAW_JITTER = 20.0  # deg

@@ -31,10 +31,10 @@ from vlm_bench.rules import (
     rule_numbers,
 )
 from vlm_bench.rules.work import rest_height
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.prompt import ExampleObject, FewShotExample, FewShotLibrary
 from vlm_bench.types.task import TaskSpec
-from vlm_bench.types.world import Frozen
 
 EXAMPLES_FILE = "few_shot_examples.json"
 

@@ -21,8 +21,9 @@ from pydantic import Field, model_validator
 
 from vlm_bench.catalog.files import load_model
 from vlm_bench.errors import ConfigError, DataFileError, UnknownNameError
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.task import SUITE_TITLES, Suite
-from vlm_bench.types.world import SNAKE, Frozen
+from vlm_bench.types.world import SNAKE
 
 PAPER_COLUMNS_FILE = Path(__file__).with_name("paper_columns.json")
 """The paper-column mapping shipped with the package."""

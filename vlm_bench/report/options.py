@@ -8,7 +8,7 @@ from typing import Any, Literal
 from pydantic import Field, ValidationError, model_validator
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 ReportFormat = Literal["terminal", "markdown", "csv", "parquet", "latex"]
 FORMATS: tuple[ReportFormat, ...] = ("terminal", "markdown", "csv", "parquet", "latex")

@@ -23,7 +23,7 @@ from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.report.bootstrap import Episodes, cell_estimates, multiplicities, percentile_interval
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns, system_order, system_rows
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 EPISODE = ["task_id", "seed", "instruction"]
 

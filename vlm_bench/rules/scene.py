@@ -23,8 +23,8 @@ from vlm_bench.rules.work import (
     DRAWER_INSIDE_BEHIND_HANDLE,
     rest_height,
 )
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.world import Frozen
 
 Body3 = tuple[float, float, float]
 """(right, forward, up) in metres from the UAV's centre."""

@@ -9,8 +9,8 @@ from functools import cache
 from pydantic import Field
 
 from vlm_bench.catalog.world import object_kinds
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
-from vlm_bench.types.world import Frozen
 
 CONTAINER_FLOOR = 0.012
 """m: a container's inner floor above its base; what is placed in it rests there."""

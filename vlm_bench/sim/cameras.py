@@ -27,6 +27,7 @@ from vlm_bench.sim.framing import (
     view_xyaxes,
 )
 from vlm_bench.sim.uav import HEADING_TAIL_X, HEADING_TIP_X, HEADING_Z
+from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode, EpisodeObject
 
 OVERHEAD_FOVY = 30.0
@@ -43,8 +44,6 @@ OBJECT_MARGIN = 0.05  # added to half an object's largest side (m)
 PART_MARGIN = 0.1  # around a drawer handle or knob (m)
 # The robot as spheres (offset below the UAV centre, radius; m): airframe, then the hanging arm.
 ROBOT_SPHERES = ((0.0, 0.5), (0.35, 0.2), (0.65, 0.2))
-
-Vec = NDArray[np.float64]
 
 
 def plan_references(episode: Episode) -> set[str]:

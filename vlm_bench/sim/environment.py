@@ -17,7 +17,8 @@ from numpy.typing import NDArray
 from vlm_bench.catalog.world import color
 from vlm_bench.sim import props
 from vlm_bench.sim.constants import FLOOR_GEOM
-from vlm_bench.sim.materials import RGBA, solid_material, textured_material, to_u8
+from vlm_bench.sim.materials import solid_material, textured_material, to_u8
+from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import Lighting
 from vlm_bench.types.world import EnvironmentSpec
 

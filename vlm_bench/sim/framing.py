@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-Vec = NDArray[np.float64]
+from vlm_bench.types.base import FloatArray as Vec
 
 
 def view_xyaxes(forward: Vec) -> list[float]:

@@ -12,7 +12,8 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-RGBA = tuple[float, float, float, float]
+from vlm_bench.types.base import RGBA
+
 TextureFn = Callable[[int, int], NDArray[np.uint8]]
 
 

@@ -27,8 +27,8 @@ from numpy.typing import NDArray
 
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.materials import solid_material
+from vlm_bench.types.base import Vec3
 
-Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 
 # Craig DH parameters of joints 1..7 (m, rad) and the flange offset along joint 7's axis.

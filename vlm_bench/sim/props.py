@@ -14,13 +14,13 @@ from collections.abc import Callable
 import mujoco
 
 from vlm_bench.catalog.world import color
-from vlm_bench.sim.materials import RGBA, solid_material
+from vlm_bench.sim.materials import solid_material
+from vlm_bench.types.base import RGBA, Vec3
 from vlm_bench.types.world import EnvironmentSpec
 
 PROP_PREFIX = "prop/"
 KEEP_OUT_RADIUS = 3.8
 Colour = str | RGBA
-Vec3 = tuple[float, float, float]
 
 _GLASS: RGBA = (0.62, 0.78, 0.92, 1.0)
 _LEAF: RGBA = (0.14, 0.42, 0.16, 1.0)

@@ -33,7 +33,7 @@ from pydantic import Field
 
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import robot_body_ids
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 Array = NDArray[np.float64]
 

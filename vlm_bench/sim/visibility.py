@@ -15,9 +15,8 @@ from numpy.typing import NDArray
 from vlm_bench.catalog.world import object_kind
 from vlm_bench.errors import UnknownNameError
 from vlm_bench.sim.uav import CAMERA_FOVY, CAMERA_PITCH_DEG, CAMERA_POS
+from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode, UavPose
-
-Vec = NDArray[np.float64]
 
 
 def uav_camera_pose(start: UavPose) -> tuple[Vec, Vec]:

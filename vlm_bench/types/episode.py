@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pydantic import Field
 
+from vlm_bench.types.base import Frozen, Vec3
 from vlm_bench.types.plan import ArmStep, PlanStep, UavStep
 from vlm_bench.types.task import Goal, Instructions, InstructionVariant, Role, Suite
-from vlm_bench.types.world import Frozen, Vec3
 
 
 class EpisodeObject(Frozen):

@@ -6,9 +6,9 @@ from typing import Annotated, Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.plan import ArmStep, PlanStep
 from vlm_bench.types.prompt import TextPart
-from vlm_bench.types.world import Frozen
 
 
 class ImagePart(Frozen):

@@ -10,7 +10,7 @@ import math
 
 from pydantic import Field
 
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 
 class ApproachGeometry(Frozen):

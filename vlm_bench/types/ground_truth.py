@@ -6,8 +6,8 @@ from typing import Any
 
 from pydantic import Field
 
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.world import Frozen
 
 
 class MaterialisedTask(Frozen):

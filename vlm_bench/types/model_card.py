@@ -12,7 +12,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 CardBackend = Literal["hf", "vllm", "openai"]
 """The model backends a card can give a recipe for."""

@@ -10,8 +10,8 @@ from typing import Literal
 
 from pydantic import Field, JsonValue
 
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
-from vlm_bench.types.world import Frozen
 
 ParseTier = Literal["valid", "repaired", "invalid"]
 """``valid``: the raw text is JSON that validates against the plan schema and every step is valid;

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 
 class Direction(StrEnum):

@@ -6,9 +6,10 @@ from typing import TYPE_CHECKING, Annotated, Literal
 
 from pydantic import Field, field_validator, model_validator
 
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.plan import ArmStep
 from vlm_bench.types.task import InstructionVariant
-from vlm_bench.types.world import SNAKE, Frozen
+from vlm_bench.types.world import SNAKE
 
 if TYPE_CHECKING:
     from vlm_bench.types.generation import GenerationRequest, RequestMeta

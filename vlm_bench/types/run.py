@@ -31,11 +31,11 @@ from pydantic import (
 )
 
 from vlm_bench.errors import ConfigError
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, View
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
-from vlm_bench.types.world import Frozen
 
 RUN_SCHEMA_VERSION = 1
 """Version of the manifest layout written by this release."""

@@ -8,7 +8,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
 
 
 class EmptyGtPolicy(StrEnum):

@@ -6,7 +6,8 @@ from typing import Literal
 
 from pydantic import Field
 
-from vlm_bench.types.world import SNAKE, Frozen
+from vlm_bench.types.base import Frozen
+from vlm_bench.types.world import SNAKE
 
 
 class SkillField(Frozen):

@@ -7,7 +7,8 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from vlm_bench.types.world import SNAKE, Frozen
+from vlm_bench.types.base import Frozen
+from vlm_bench.types.world import SNAKE
 
 
 class Suite(StrEnum):

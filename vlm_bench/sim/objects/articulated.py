@@ -26,8 +26,9 @@ from vlm_bench.sim.objects.base import (
 )
 from vlm_bench.sim.objects.containers import WALL, open_box
 from vlm_bench.sim.objects.frames import axis_angle
+from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind, PartSpec
+from vlm_bench.types.world import ObjectKind, PartSpec
 
 METAL: RGBA = (0.72, 0.73, 0.76, 1.0)
 DARK: RGBA = (0.07, 0.07, 0.08, 1.0)

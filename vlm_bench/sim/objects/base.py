@@ -19,8 +19,9 @@ from vlm_bench.registry import Registry
 from vlm_bench.sim.constants import object_geom
 from vlm_bench.sim.materials import solid_material
 from vlm_bench.sim.objects.frames import IDENTITY, Quat, segment, yaw
+from vlm_bench.types.base import RGBA, Vec3
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind, Vec3
+from vlm_bench.types.world import ObjectKind
 
 Look = str | RGBA  # a material name, or a plain colour turned into a matte material
 VISUAL_GROUP = 1  # decoration geoms (labels, stickers): drawn, never collide, no mass

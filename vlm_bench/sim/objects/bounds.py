@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
-from numpy.typing import NDArray
 
 from vlm_bench.errors import UnknownNameError
+from vlm_bench.types.base import FloatArray as Vec
 
-Vec = NDArray[np.float64]
 _GEOM = mujoco.mjtGeom
 
 

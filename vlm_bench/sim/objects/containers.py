@@ -18,8 +18,9 @@ from vlm_bench.sim.objects.base import (
     shade,
 )
 from vlm_bench.sim.objects.frames import axis_angle
+from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind
+from vlm_bench.types.world import ObjectKind
 
 WALL = 0.012  # wall and floor thickness (m)
 SLOT: RGBA = (0.08, 0.08, 0.09, 1.0)  # colour of cut-outs (handle holes)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from vlm_bench.types.world import Vec3
+from vlm_bench.types.base import Vec3
 
 Quat = tuple[float, float, float, float]
 IDENTITY: Quat = (1.0, 0.0, 0.0, 0.0)

@@ -5,8 +5,9 @@ from __future__ import annotations
 import mujoco
 
 from vlm_bench.sim.objects.base import OBJECT_BUILDERS, PLAIN, Kit, object_body, shade
+from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind
+from vlm_bench.types.world import ObjectKind
 
 TOP_THICKNESS = 0.04
 

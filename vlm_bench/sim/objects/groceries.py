@@ -26,8 +26,9 @@ from vlm_bench.sim.objects.textures import (
     textured_look,
     tin_label,
 )
+from vlm_bench.types.base import RGBA, Vec3
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind, Vec3
+from vlm_bench.types.world import ObjectKind
 
 METAL: RGBA = (0.72, 0.73, 0.76, 1.0)
 TAPE: RGBA = (0.78, 0.62, 0.38, 1.0)

@@ -17,8 +17,9 @@ from vlm_bench.sim.objects.base import (
 from vlm_bench.sim.objects.frames import axis_angle, quat_mul, yaw
 from vlm_bench.sim.objects.meshes import hex_ring, prism
 from vlm_bench.sim.objects.textures import textured_look, threads
+from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind
+from vlm_bench.types.world import ObjectKind
 
 GLASS: RGBA = (0.04, 0.06, 0.12, 1.0)
 _X_AXIS = axis_angle((0.0, 1.0, 0.0), 90.0)  # turns a cylinder's axis (z) onto +x

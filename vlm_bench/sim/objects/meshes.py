@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from vlm_bench.types.world import Vec3
+from vlm_bench.types.base import Vec3
 
 
 def prism(

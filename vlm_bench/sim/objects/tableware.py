@@ -19,8 +19,9 @@ from vlm_bench.sim.objects.base import (
 )
 from vlm_bench.sim.objects.frames import axis_angle, quat_mul, yaw
 from vlm_bench.sim.objects.meshes import prism
+from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind
+from vlm_bench.types.world import ObjectKind
 
 WHITE: RGBA = (1.0, 1.0, 1.0, 1.0)
 MUG_WALL = 0.005  # m

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.sim.materials import textured_material, to_u8
-from vlm_bench.types.world import RGBA
+from vlm_bench.types.base import RGBA
 
 Image = NDArray[np.uint8]
 GOLD: RGBA = (0.85, 0.66, 0.2, 1.0)

@@ -13,8 +13,9 @@ from vlm_bench.sim.objects.base import (
 )
 from vlm_bench.sim.objects.frames import axis_angle
 from vlm_bench.sim.objects.textures import sticker_face, textured_look, wood_grain
+from vlm_bench.types.base import RGBA, Vec3
 from vlm_bench.types.episode import EpisodeObject
-from vlm_bench.types.world import RGBA, ObjectKind, Vec3
+from vlm_bench.types.world import ObjectKind
 
 # Standard Rubik's scheme: white/yellow, green/blue and red/orange on opposite faces.
 # Each face: name, colour, outward normal, and the turn (axis, deg) taking +z onto it.
