@@ -6,14 +6,72 @@ These models cross the executor → runner → storage boundary (a record carrie
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from enum import StrEnum
 from typing import Literal
 
 from pydantic import Field
 
+from vlm_bench.types.base import Frozen
 from vlm_bench.types.episode import UavPose
-from vlm_bench.types.world import Frozen
 
 StepStatus = Literal["ok", "failed", "skipped"]
+
+
+class FailureCode(StrEnum):
+    """Why a plan step, or a whole replay, failed: one code per kind of failure reason."""
+
+    UNKNOWN_OBJECT = "unknown_object"
+    """The step names an object or part the scene does not have."""
+    UNKNOWN_SKILL = "unknown_skill"
+    """The executor has no skill of that name (a policy pipeline may cover fewer skills)."""
+    OUT_OF_REACH = "out_of_reach"
+    """No planned arm motion (with the UAV's small assists) reaches the object or release."""
+    ALREADY_HOLDING = "already_holding"
+    """A pick while the hand holds an object."""
+    NOT_GRASPABLE = "not_graspable"
+    """A pick of an object the catalogue marks as not graspable."""
+    GRASP_FAILED = "grasp_failed"
+    """The fingers closed but do not both touch the object (or it did not rise), or a handle."""
+    SLIPPED = "slipped"
+    """The held object left the fingers before its release."""
+    NOTHING_HELD = "nothing_held"
+    """A place with an empty hand."""
+    NOT_PUSHABLE = "not_pushable"
+    """A push of an object the catalogue marks as fixed."""
+    PUSH_BLOCKED = "push_blocked"
+    """No push off the object's support keeps its swept path clear of other objects."""
+    PUSH_SHORT = "push_short"
+    """The pushed object moved less than half the commanded travel."""
+    ARTICULATION_SHORT = "articulation_short"
+    """A drawer or knob did not reach the opening, closing or turn the skill requires."""
+    WRONG_PART = "wrong_part"
+    """An articulation skill on an object without that part, or on a part of another kind."""
+    BUSY_HAND = "busy_hand"
+    """A push or articulation while the hand holds an object."""
+    POLICY_TIMEOUT = "policy_timeout"
+    """A low-level policy did not end its step within its control-step budget."""
+    SKILL_FAILED = "skill_failed"
+    """A user-supplied skill failed with a free-text reason and no code."""
+    EARLIER_FAILURE = "earlier_failure"
+    """The step was skipped: an earlier step failed."""
+    GOAL_NOT_MET = "goal_not_met"
+    """Every step succeeded but a task goal does not hold after settling."""
+    SIMULATOR_UNSTABLE = "simulator_unstable"
+    """The simulation blew up (non-finite or absurdly fast state)."""
+    EXECUTOR_CRASH = "executor_crash"
+    """The executor raised (or its worker died); the runner records it and carries on."""
+
+
+@dataclass(frozen=True)
+class SkillFailure:
+    """A failed skill: its code and the human-readable detail recorded as its reason."""
+
+    code: FailureCode
+    detail: str
+
+    def __str__(self) -> str:
+        return self.detail
 
 
 class FlightConfig(Frozen):
@@ -106,6 +164,9 @@ class StepOutcome(Frozen):
     agent: Literal["UAV", "ARM"] = Field(description="Which agent the step commands.")
     status: StepStatus = Field(description="ok, failed, or skipped (after an earlier failure).")
     reason: str | None = Field(default=None, description="Why it failed or was skipped.")
+    failure_code: FailureCode | None = Field(
+        default=None, description="The kind of failure, where ``reason`` is set."
+    )
     duration_s: float = Field(default=0.0, ge=0, description="Simulated time the step took (s).")
     collisions: tuple[str, ...] = Field(
         default=(), description="Non-robot geoms the robot touched during the step."
@@ -131,6 +192,9 @@ class ExecutionResult(Frozen):
     exec_success: bool = Field(description="Every step succeeded and every goal holds.")
     n_steps_done: int = Field(ge=0, description="Steps that finished with status ok.")
     failure_reason: str | None = Field(default=None, description="Reason of the first failure.")
+    failure_code: FailureCode | None = Field(
+        default=None, description="The kind of the first failure, where it is set."
+    )
     goals: tuple[bool, ...] = Field(default=(), description="Each task goal, after settling.")
     displacement: dict[str, float] = Field(
         default_factory=dict, description="Non-target movable objects' displacement (m)."
@@ -156,6 +220,7 @@ class ExecutionSummary(Frozen):
     steps_ok: bool
     n_steps_done: int = Field(ge=0)
     failure_reason: str | None = None
+    failure_code: FailureCode | None = None
     goals: tuple[bool, ...] = ()
     s_task: float = Field(ge=0, le=100)
     scores: VlaScores | None = None
@@ -172,6 +237,7 @@ class ExecutionSummary(Frozen):
             steps_ok=result.steps_ok,
             n_steps_done=result.n_steps_done,
             failure_reason=result.failure_reason,
+            failure_code=result.failure_code,
             goals=result.goals,
             s_task=result.s_task,
             scores=result.scores,
