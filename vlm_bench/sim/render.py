@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
 from vlm_bench.errors import ConfigError, UnknownNameError
+from vlm_bench.sim.gl_preload import before_first_gl_context
 from vlm_bench.sim.labels import Font, ui_font
 
 RGBImage = NDArray[np.uint8]
@@ -162,6 +163,7 @@ class SnapshotRenderer:
                 "buffer is smaller (raise spec.visual.global_.offwidth/offheight)"
             )
         if self._gl is None:
+            before_first_gl_context()
             self._gl = _gl_context_class()(width, height)
         self._gl.make_current()
         if self._model is not model or self._mjr is None or self._scene is None:
