@@ -158,16 +158,19 @@ def run(
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, stats)
 
 
-def rescore(run_dir: Path | str, *, progress: bool = False) -> RunResult:
+def rescore(
+    run_dir: Path | str, *, progress: bool = False, replay: ReplayOptions | None = None
+) -> RunResult:
     """Recompute parses and scores of a run from its response cache; no model is called.
 
-    A run that executes plans executes them all again. Rewrites ``records.jsonl`` (one line
-    per episode) and the summary files.
+    A run that executes plans executes them all again, in the pool ``replay`` asks for
+    (default: one worker process per core). Rewrites ``records.jsonl`` (one line per episode,
+    in its order) and the summary files.
     """
     from vlm_bench.report import write_summary
     from vlm_bench.runner import rescore_run
 
-    outcome = rescore_run(Path(run_dir), progress=progress)
+    outcome = rescore_run(Path(run_dir), progress=progress, replay=replay)
     summary = write_summary(outcome.run_dir)
     stats = {
         "total": len(outcome.records),

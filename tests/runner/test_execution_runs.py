@@ -145,6 +145,25 @@ def test_rescore_executes_again(tmp_path: Path) -> None:
     assert [r.without_timing() for r in latest_records(run_dir / "records.jsonl")] == before
 
 
+def test_rescore_in_a_pool_keeps_the_records_and_their_order(tmp_path: Path) -> None:
+    """Rescoring replays plans in worker processes (identical plans once) and writes the
+    records back in the order the run wrote them, equal to an inline rescore's."""
+    both = Scripted(implicit=HOP)  # both variants answer the same plan: one replay per episode
+    config = _config(seeds=(0, 1))
+    api.run(config, out=tmp_path / "a", backend=both, replay=ReplayOptions(workers=0))
+    order = [r.key for r in latest_records(tmp_path / "a" / "records.jsonl")]
+    inline = api.rescore(tmp_path / "a", replay=ReplayOptions(workers=0))
+    api.run(config, out=tmp_path / "b", backend=both, replay=ReplayOptions(workers=0))
+    pooled = api.rescore(tmp_path / "b", replay=ReplayOptions(workers=2))
+    assert [r.key for r in latest_records(tmp_path / "b" / "records.jsonl")] == order
+    assert pooled.stats["executed"] == 2 and inline.stats["executed"] == 2
+    assert [r.execution for r in pooled.records] != [None] * 4
+    drop = {"wall_time_s"}
+    assert [r.execution.model_dump(exclude=drop) for r in pooled.records if r.execution] == [
+        r.execution.model_dump(exclude=drop) for r in inline.records if r.execution
+    ]
+
+
 def test_scene_copies_replay_exactly_like_fresh_scenes() -> None:
     episode = make_episode(TASK, 1)
     plan = [UavStep(direction=Direction.UP, distance=0.2)]

@@ -20,6 +20,21 @@ if TYPE_CHECKING:
     from vlm_bench.types.task import InstructionVariant
 
 console = Console()
+ExecWorkers = Annotated[
+    int | None,
+    typer.Option(
+        min=0,
+        help="Plans replayed at once (default: the machine's cores; 0 = one by one in this "
+        "process).",
+    ),
+]
+ExecBackend = Annotated[
+    str, typer.Option(help="Where plans are replayed: process (this machine) or ray.")
+]
+RayAddress = Annotated[
+    str | None,
+    typer.Option(help="Ray cluster to replay on (--exec-backend ray; default: a local one)."),
+]
 _VIEWS = ("uav", "wrist", "overhead", "side")
 
 
@@ -146,22 +161,9 @@ def run(
             help="Gust force std on the UAV in N during execution (the paper's UAV Disturb.)."
         ),
     ] = 0.0,
-    exec_workers: Annotated[
-        int | None,
-        typer.Option(
-            min=0,
-            help="Plans replayed at once, beside generation (default: the machine's cores; "
-            "0 = one by one in this process).",
-        ),
-    ] = None,
-    exec_backend: Annotated[
-        str,
-        typer.Option(help="Where plans are replayed: process (this machine) or ray."),
-    ] = "process",
-    ray_address: Annotated[
-        str | None,
-        typer.Option(help="Ray cluster to replay on (--exec-backend ray; default: a local one)."),
-    ] = None,
+    exec_workers: ExecWorkers = None,
+    exec_backend: ExecBackend = "process",
+    ray_address: RayAddress = None,
 ) -> None:
     """Evaluate a model as a planner (and execute its plans); resumes the run folder."""
     from pydantic import ValidationError
@@ -226,6 +228,9 @@ def rescore(
         str, typer.Argument(metavar="RUN", help="Run folder, or a name under results/.")
     ],
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+    exec_workers: ExecWorkers = None,
+    exec_backend: ExecBackend = "process",
+    ray_address: RayAddress = None,
 ) -> None:
     """Recompute parses, scores and executions from the response cache (no model calls)."""
     from vlm_bench.api import rescore as api_rescore
@@ -236,7 +241,8 @@ def rescore(
     path = Path(run_dir)
     if not path.exists() and (results_dir() / run_dir).exists():
         path = results_dir() / run_dir
-    result = api_rescore(path, progress=progress)
+    replay = replay_options(exec_workers, exec_backend, ray_address)
+    result = api_rescore(path, progress=progress, replay=replay)
     _print_summary(result)
     console.print(f"{result.stats['changed']} record(s) changed", highlight=False)
 

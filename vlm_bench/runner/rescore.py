@@ -9,11 +9,12 @@ from typing import Any
 
 from vlm_bench.episodes import make_episode
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
-from vlm_bench.runner.execution import PlanExecutor
 from vlm_bench.runner.progress import progress_bar
+from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunManifest
@@ -51,17 +52,22 @@ def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
     )
 
 
-def rescore_run(run_dir: Path, *, progress: bool = False) -> RescoreOutcome:
+def rescore_run(
+    run_dir: Path, *, progress: bool = False, replay: ReplayOptions | None = None
+) -> RescoreOutcome:
     """Re-parse and re-score every answered episode of a run with the current code.
 
     Uses the run's own scoring configuration and the response cache; error records are kept
     as they are (a resume retries them). When the run executes plans, every plan is executed
-    again with the run's ``uav_noise`` (seconds per episode). ``records.jsonl`` is rewritten
-    atomically, one line per episode, keeping each record's timing and token counts.
+    again with the run's ``uav_noise``, in the pool ``replay`` asks for (default: one worker
+    process per core; identical plans on one episode run once). ``records.jsonl`` is rewritten
+    atomically, one line per episode in the order it had, keeping each record's timing and
+    token counts.
 
     Args:
         run_dir: The run folder.
         progress: Show a progress bar on stderr.
+        replay: Where plans are replayed.
 
     Raises:
         NotARunError: ``run_dir`` has no manifest.
@@ -69,35 +75,49 @@ def rescore_run(run_dir: Path, *, progress: bool = False) -> RescoreOutcome:
     """
     with RunStore.open_existing(run_dir) as store:
         config = store.manifest.config
-        executor = PlanExecutor(config.uav_noise) if config.execute else None
         episodes: dict[tuple[str, int], Episode] = {}
-        out: list[EpisodeRecord] = []
-        changed = 0
         label = f"rescore {store.paths.run_id}"
-        with progress_bar(len(store.records), label, enabled=progress) as advance:
-            for record in store.records.values():
-                new = record
-                if record.ok:
-                    ep_key = (record.task_id, record.seed)
-                    if ep_key not in episodes:
-                        episodes[ep_key] = make_episode(record.task_id, record.seed)
-                    new = _rescored(store, record, episodes[ep_key], config.scoring, executor)
-                    changed += new.without_timing() != record.without_timing()
-                out.append(new)
-                advance(1)
+        records = list(store.records.values())
+        done: dict[str, EpisodeRecord] = {}
+        replays = (
+            Replays(make_pool(replay or ReplayOptions()), config.uav_noise)
+            if config.execute
+            else None
+        )
+        try:
+            with progress_bar(len(records), label, enabled=progress) as advance:
+                for record in records:
+                    new = record
+                    if record.ok:
+                        ep_key = (record.task_id, record.seed)
+                        if ep_key not in episodes:
+                            episodes[ep_key] = make_episode(record.task_id, record.seed)
+                        new = _rescored(store, record, episodes[ep_key], config.scoring)
+                        if replays is not None:
+                            finished = replays.submit(episodes[ep_key], new)
+                            if finished is None:
+                                continue
+                            new = finished
+                    done[record.key] = new
+                    advance(1)
+                for new in replays.drain() if replays is not None else ():
+                    done[new.key] = new
+                    advance(1)
+        finally:
+            if replays is not None:
+                replays.close()
+        out = [done[record.key] for record in records]
+        pairs = zip(out, records, strict=True)
+        changed = sum(new.without_timing() != old.without_timing() for new, old in pairs)
         store.rewrite_records(out)
-        executed = executor.executed if executor is not None else 0
+        executed = replays.stats.executed if replays is not None else 0
         return RescoreOutcome(store.paths.root, store.manifest, tuple(out), changed, executed)
 
 
 def _rescored(
-    store: RunStore,
-    record: EpisodeRecord,
-    episode: Episode,
-    scoring: ScoringConfig,
-    executor: PlanExecutor | None,
+    store: RunStore, record: EpisodeRecord, episode: Episode, scoring: ScoringConfig
 ) -> EpisodeRecord:
-    """The record recomputed from its cached answer (and executed again if ``executor``)."""
+    """The record recomputed from its cached answer (its execution is replayed separately)."""
     info = EpisodeInfo(
         record.run_id,
         record.key,
@@ -108,8 +128,6 @@ def _rescored(
         first_target_visible=first_target_visible(episode),
     )
     new = scored_record(info, episode, _response(store, record), scoring, cached=record.cached)
-    if executor is not None:
-        new = executor.execute(episode, new)
     return new.model_copy(update={"created": record.created})
 
 
