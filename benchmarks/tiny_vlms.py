@@ -495,8 +495,7 @@ def png(color: tuple[int, int, int], size: int) -> bytes:
 def four_view_requests(system: str, n: int, size: int = 112) -> list[Any]:
     """``n`` requests laid out as a run's: each view's label, then its image; then the
     instruction."""
-    from vlm_bench.types.generation import GenerationRequest, ImagePart
-    from vlm_bench.types.prompt import TextPart
+    from vlm_bench.types.generation import GenerationRequest, ImagePart, TextPart
 
     out: list[Any] = []
     for i in range(n):

@@ -11,9 +11,8 @@ from pydantic import TypeAdapter
 from vlm_bench.backends import resolve_backend
 from vlm_bench.catalog.skills import arm_skill_names
 from vlm_bench.errors import ConfigError, DataFileError
-from vlm_bench.types.generation import GenerationConfig, GenerationRequest, RequestMeta
+from vlm_bench.types.generation import GenerationConfig, GenerationRequest, RequestMeta, TextPart
 from vlm_bench.types.plan import ArmStep, Direction, PlanStep, UavStep, plan_to_json
-from vlm_bench.types.prompt import TextPart
 
 CONFIG = GenerationConfig()
 GT = (

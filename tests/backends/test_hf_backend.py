@@ -23,8 +23,8 @@ from vlm_bench.types.generation import (  # noqa: E402
     GenerationRequest,
     GenerationResult,
     ImagePart,
+    TextPart,
 )
-from vlm_bench.types.prompt import TextPart  # noqa: E402
 
 os.environ["HF_HUB_OFFLINE"] = "1"
 

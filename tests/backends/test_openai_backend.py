@@ -25,8 +25,8 @@ from vlm_bench.types.generation import (
     GenerationConfig,
     GenerationRequest,
     ImagePart,
+    TextPart,
 )
-from vlm_bench.types.prompt import TextPart
 
 PNG = b"\x89PNG\r\n\x1a\n" + b"fake-png-body"
 FAST = {"backoff_s": "0.01", "backoff_max_s": "0.02"}

@@ -16,8 +16,7 @@ from vlm_bench.backends.hf_decoding import hf_generate_kwargs
 from vlm_bench.backends.messages import data_url, openai_messages
 from vlm_bench.backends.vllm_backend import DEFAULT_MAX_MODEL_LEN, VllmBackend, sampling_kwargs
 from vlm_bench.errors import ConfigError
-from vlm_bench.types.generation import GenerationConfig, GenerationRequest, ImagePart
-from vlm_bench.types.prompt import TextPart
+from vlm_bench.types.generation import GenerationConfig, GenerationRequest, ImagePart, TextPart
 
 PNG = b"\x89PNG\r\n\x1a\nbody"
 

@@ -25,8 +25,8 @@ from vlm_bench.types import (
     UavPose,
     UavStep,
 )
-from vlm_bench.types.generation import GenerationRequest, ImagePart, RequestMeta
-from vlm_bench.types.prompt import ImageSlot, PromptConfig, TextPart
+from vlm_bench.types.generation import GenerationRequest, ImagePart, RequestMeta, TextPart
+from vlm_bench.types.prompt import ImageSlot, PromptConfig
 
 GOLDEN = Path(__file__).parent / "golden"
 UPDATE = os.environ.get("VLM_BENCH_UPDATE_GOLDEN") == "1"

@@ -17,9 +17,8 @@ from collections.abc import Sequence
 from vlm_bench.backends.builtin import PlannerBackend
 from vlm_bench.errors import ConfigError
 from vlm_bench.rules import parse_scene, plan_from_scene
-from vlm_bench.types.generation import GenerationRequest
+from vlm_bench.types.generation import GenerationRequest, TextPart
 from vlm_bench.types.plan import ArmStep, UavStep
-from vlm_bench.types.prompt import TextPart
 
 NO_SCENE = "backend 'rules' plans from the scene as text; run it with --scene-as-text"
 

@@ -8,7 +8,13 @@ from pydantic import ConfigDict, Field, model_validator
 
 from vlm_bench.types.base import Frozen
 from vlm_bench.types.plan import ArmStep, PlanStep
-from vlm_bench.types.prompt import TextPart
+
+
+class TextPart(Frozen):
+    """A span of prompt text."""
+
+    type: Literal["text"] = "text"
+    text: str
 
 
 class ImagePart(Frozen):

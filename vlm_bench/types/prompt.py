@@ -2,17 +2,15 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Literal
+from typing import Annotated, Literal
 
 from pydantic import Field, field_validator, model_validator
 
 from vlm_bench.types.base import Frozen
+from vlm_bench.types.generation import GenerationRequest, ImagePart, RequestMeta, TextPart
 from vlm_bench.types.plan import ArmStep
 from vlm_bench.types.task import InstructionVariant
 from vlm_bench.types.world import SNAKE
-
-if TYPE_CHECKING:
-    from vlm_bench.types.generation import GenerationRequest, RequestMeta
 
 View = Literal["uav", "wrist", "overhead", "side"]
 """Camera names (the simulator's stable camera names, SPEC §2)."""
@@ -45,13 +43,6 @@ class PromptConfig(Frozen):
         if len(set(views)) != len(views):
             raise ValueError(f"views must be unique, got {list(views)}")
         return views
-
-
-class TextPart(Frozen):
-    """A span of prompt text."""
-
-    type: Literal["text"] = "text"
-    text: str
 
 
 class ImageSlot(Frozen):
@@ -91,8 +82,6 @@ class Prompt(Frozen):
         json_schema: dict[str, object] | None = None,
     ) -> GenerationRequest:
         """The backend request for this prompt: image slots filled with their PNG bytes."""
-        from vlm_bench.types.generation import GenerationRequest, ImagePart
-
         parts: list[TextPart | ImagePart] = []
         for part in self.user:
             if isinstance(part, ImageSlot):
