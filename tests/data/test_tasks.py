@@ -1,4 +1,7 @@
-"""The 60 task files: counts, references, instruction rules and layout geometry (SPEC §3)."""
+"""The 60 task files: counts, references, instruction rules and layout geometry.
+
+What a task holds: docs/design.md#tasks.
+"""
 
 from __future__ import annotations
 

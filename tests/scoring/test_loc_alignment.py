@@ -1,6 +1,6 @@
-"""S_loc pairing by segment (default) and by order (SPEC §6); hand-computed, arithmetic in the
-comments. Segment k = the UAV moves before the k-th ARM step; the trailing segment = the moves
-after the last one."""
+"""S_loc pairing by segment (default) and by order (docs/design.md#metrics); hand-computed,
+arithmetic in the comments. Segment k = the UAV moves before the k-th ARM step; the trailing
+segment = the moves after the last one."""
 
 from __future__ import annotations
 

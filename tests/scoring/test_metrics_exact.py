@@ -1,4 +1,4 @@
-"""Hand-computed metric values (SPEC §6); the arithmetic is in the comments."""
+"""Hand-computed metric values (docs/design.md#metrics); the arithmetic is in the comments."""
 
 from __future__ import annotations
 
