@@ -53,10 +53,10 @@ def test_paper_example_validates() -> None:
 
 
 @pytest.mark.parametrize(
-    ("plan", "fragment"),
+    ("plan", "keyword"),
     [
-        ([], "fewer than 1"),
-        ({"plan": PAPER_EXAMPLE}, "expected array"),
+        ([], "minItems"),
+        ({"plan": PAPER_EXAMPLE}, "type"),
         ([{"tasktype": "UAV", "direction": "front-left"}], "anyOf"),
         ([{"tasktype": "UAV"}], "anyOf"),
         ([{"tasktype": "ARM", "object": "x", "skill": "grasp"}], "anyOf"),
@@ -66,9 +66,9 @@ def test_paper_example_validates() -> None:
         ([{"tasktype": "UAV", "direction": "up", "subtask": 1.5}], "anyOf"),
     ],
 )
-def test_schema_rejects(plan: object, fragment: str) -> None:
+def test_schema_rejects(plan: object, keyword: str) -> None:
     violations = schema_violations(plan_json_schema(), plan)
-    assert any(fragment in v for v in violations), violations
+    assert any(v.split(": ")[1] == keyword for v in violations), violations
 
 
 def test_validator_uses_json_semantics() -> None:
@@ -79,8 +79,7 @@ def test_validator_uses_json_semantics() -> None:
     assert not is_valid({"const": False}, 0)
     assert is_valid({"type": "integer", "minimum": 0}, 10**400)
     assert not is_valid({"type": "number"}, float("nan"))
-    with pytest.raises(ValueError, match="pattern"):
-        is_valid({"pattern": "x"}, "x")
+    assert not is_valid({"type": "number"}, float("inf"))
 
 
 def test_uav_step_with_move_skill_is_schema_valid() -> None:

@@ -5,8 +5,12 @@ Parsing never raises on model output; see :func:`parse_plan` and
 """
 
 from vlm_bench.parsing.parser import parse_plan
-from vlm_bench.parsing.schema import plan_json_schema, step_json_schema
-from vlm_bench.parsing.validate import is_valid, schema_violations
+from vlm_bench.parsing.schema import (
+    is_valid,
+    plan_json_schema,
+    schema_violations,
+    step_json_schema,
+)
 from vlm_bench.parsing.vocab import object_id, token
 
 __all__ = [

@@ -4,19 +4,20 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from functools import lru_cache
-from typing import Any
+
+from jsonschema.protocols import Validator
 
 from vlm_bench.parsing.locate import locate_plan
-from vlm_bench.parsing.schema import plan_json_schema
+from vlm_bench.parsing.schema import plan_json_schema, schema_validator
 from vlm_bench.parsing.steps import normalise_step
-from vlm_bench.parsing.validate import is_valid
 from vlm_bench.parsing.vocab import SceneIds, vocabulary
 from vlm_bench.types.parse import ParseCode, ParseResult
 
 
 @lru_cache(maxsize=256)
-def _schema(object_ids: tuple[str, ...] | None) -> dict[str, Any]:
-    return plan_json_schema(object_ids, max_steps=None)  # the tier judges form, not length
+def _validator(object_ids: tuple[str, ...] | None) -> Validator:
+    # The tier judges form, not length: no step bound.
+    return schema_validator(plan_json_schema(object_ids, max_steps=None))
 
 
 def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResult:
@@ -42,7 +43,7 @@ def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResul
     scene = SceneIds(ids)
     vocab = vocabulary()
     steps = tuple(normalise_step(i, raw, vocab, scene) for i, raw in enumerate(located.items))
-    clean = is_valid(_schema(ids), located.items) and all(s.valid and not s.errors for s in steps)
+    clean = _validator(ids).is_valid(located.items) and all(s.valid and not s.errors for s in steps)
     errors = located.errors if clean else (*located.errors, ParseCode.SCHEMA)
     return ParseResult(
         tier="valid" if clean and located.strict else "repaired",

@@ -8,8 +8,12 @@ its skills' fields (required when every skill of the agent requires it), and an 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Mapping, Sequence
 from typing import Any
+
+from jsonschema import Draft202012Validator, TypeChecker, validators
+from jsonschema.protocols import Validator
 
 from vlm_bench.catalog.skills import skills
 from vlm_bench.errors import DataFileError
@@ -110,3 +114,36 @@ def plan_json_schema(
     if max_steps is not None:
         schema["maxItems"] = max_steps
     return schema
+
+
+def _finite_number(checker: TypeChecker, value: object) -> bool:
+    # JSON has no NaN or Infinity; a float of either is not a JSON number.
+    if isinstance(value, float):
+        return math.isfinite(value)
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+_Validator = validators.extend(  # type: ignore[no-untyped-call]
+    Draft202012Validator,
+    type_checker=Draft202012Validator.TYPE_CHECKER.redefine("number", _finite_number),
+)
+
+
+def schema_validator(schema: Mapping[str, Any]) -> Validator:
+    """A ``jsonschema`` validator of ``schema`` (draft 2020-12, JSON number semantics)."""
+    validator: Validator = _Validator(schema)
+    return validator
+
+
+def schema_violations(schema: Mapping[str, Any], value: Any) -> list[str]:
+    """Violations of ``schema`` by ``value`` as ``"<path>: <keyword>: <message>"`` (empty when
+    valid); the keyword is the schema keyword that failed (``type``, ``anyOf``, ``minItems`` …)."""
+    return [
+        f"{e.json_path}: {e.validator}: {e.message}"
+        for e in schema_validator(schema).iter_errors(value)
+    ]
+
+
+def is_valid(schema: Mapping[str, Any], value: Any) -> bool:
+    """True when ``value`` satisfies ``schema``."""
+    return bool(schema_validator(schema).is_valid(value))
