@@ -20,7 +20,7 @@ from vlm_bench.sim.objects.base import (
     PLAIN,
     Kit,
     is_light,
-    object_body,
+    object_kit,
     paint,
     shade,
 )
@@ -103,8 +103,7 @@ def build_drawer_cabinet(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A fixed cabinet facing +x with one sliding drawer per part, bar handles protruding."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     depth, width, h = kind.size
     carcass = kit.look(shade(rgba, 0.93))
     front_x = depth / 2 - FRONT
@@ -132,9 +131,8 @@ def build_drawer_cabinet(
             shade(rgba, 0.55),
         )
     for part in drawers:
-        _drawer(spec, body, kind, part, pitch / 2 - 0.005, rgba)
-    kit.finish(kind.mass - DRAWER_MASS * len(drawers))
-    return body
+        _drawer(spec, kit.body, kind, part, pitch / 2 - 0.005, rgba)
+    return kit.finish(kind.mass - DRAWER_MASS * len(drawers))
 
 
 def _knob(spec: mujoco.MjSpec, stove: mujoco.MjsBody, part: PartSpec, top_z: float) -> None:
@@ -177,8 +175,7 @@ def build_stove(
 ) -> mujoco.MjsBody:
     """A fixed stove: oven body with glass door and handle, black cooktop with four burner
     rings, and the rotary knob(s) of ``kind.parts`` standing on the top."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     lx, ly, h = kind.size
     top_z = h - 0.01
     glass = paint(spec, DARK, specular=0.9, shininess=0.8)
@@ -244,7 +241,7 @@ def build_stove(
     mark = (0.95, 0.95, 0.95, 1.0)
     for part in kind.parts:
         if part.kind == "knob":
-            _knob(spec, body, part, top_z)
+            _knob(spec, kit.body, part, top_z)
             for deg in (0.0, 90.0, 180.0):  # dial marks: where the pointer is at 0°, 90°, 180°
                 a = math.radians(deg)
                 pos = (
@@ -260,5 +257,4 @@ def build_stove(
                     axis_angle((0, 0, 1), deg),
                     solid=False,
                 )
-    kit.finish(kind.mass - KNOB_MASS)
-    return body
+    return kit.finish(kind.mass - KNOB_MASS)

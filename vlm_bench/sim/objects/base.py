@@ -93,6 +93,17 @@ def object_body(parent: mujoco.MjsBody, obj: EpisodeObject, kind: ObjectKind) ->
     return body
 
 
+def object_kit(
+    spec: mujoco.MjSpec,
+    parent: mujoco.MjsBody,
+    obj: EpisodeObject,
+    kind: ObjectKind,
+    surface: Surface,
+) -> Kit:
+    """A :class:`Kit` on the object's new body (:func:`object_body`): every builder's opening."""
+    return Kit(spec, object_body(parent, obj, kind), obj.id, surface)
+
+
 def paint(spec: mujoco.MjSpec, rgba: RGBA, specular: float = 0.15, shininess: float = 0.2) -> str:
     """A shared plain material of one colour and finish; returns its name."""
     key = "_".join(f"{c:.3f}" for c in (*rgba, specular, shininess))
@@ -263,8 +274,10 @@ class Kit:
         geom.group = COLLISION_GROUP
         return geom
 
-    def finish(self, mass: float) -> None:
-        """Give the solid geoms ``mass`` in total, shared by weighted volume."""
+    def finish(self, mass: float) -> mujoco.MjsBody:
+        """Give the solid geoms ``mass`` in total, shared by weighted volume; returns the body."""
         total = sum(w for _, w in self._solids)
         for g, w in self._solids:
             g.mass = mass * w / total
+
+        return self.body

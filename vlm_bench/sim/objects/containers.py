@@ -14,7 +14,7 @@ from vlm_bench.sim.objects.base import (
     PLAIN,
     Kit,
     Look,
-    object_body,
+    object_kit,
     shade,
 )
 from vlm_bench.sim.objects.frames import axis_angle
@@ -70,8 +70,7 @@ def build_basket(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A slatted basket: solid base band, three slats with gaps, a top rim, woven ribs."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     lx, ly, h = kind.size
     look = kit.look(rgba)
     kit.box(
@@ -99,8 +98,7 @@ def build_basket(
     for sign in (1.0, -1.0):  # handle holes in the rim of the short ends
         pos = (sign * (lx / 2 + 0.0003), 0.0, h - rim / 2)
         kit.box(f"handle_hole{int(sign)}", (0.0012, 0.035, 0.006), pos, SLOT, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 def _spread(length: float, pitch: float) -> list[float]:
@@ -118,8 +116,7 @@ def build_storage_box(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A plastic tote: solid walls inset under an overhanging rim, with a darker floor."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     lx, ly, h = kind.size
     lip = 0.01
     look = kit.look(rgba)
@@ -128,8 +125,7 @@ def build_storage_box(
     for sign in (1.0, -1.0):  # grip slots under the rim of the short ends
         pos = (sign * (lx / 2 - lip + 0.0003), 0.0, h - 0.03)
         kit.box(f"grip{int(sign)}", (0.0008, 0.04, 0.007), pos, SLOT, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("parts_bin")
@@ -141,8 +137,7 @@ def build_parts_bin(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A stackable parts bin: tall back, side walls sloping down to a low front with a label."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     lx, ly, h = kind.size
     front_h = 0.55 * h
     look = kit.look(rgba)
@@ -176,8 +171,7 @@ def build_parts_bin(
         label,
         solid=False,
     )
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("tray")
@@ -189,12 +183,10 @@ def build_tray(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A shallow tray: floor, low rim and hand slots in the short ends."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     lx, ly, h = kind.size
     open_box(kit, "tray", (lx, ly, h), kit.look(rgba), shade(rgba, 1.15))
     for sign in (1.0, -1.0):
         pos = (sign * (lx / 2 + 0.0003), 0.0, h * 0.62)
         kit.box(f"slot{int(sign)}", (0.0008, 0.045, 0.004), pos, SLOT, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)

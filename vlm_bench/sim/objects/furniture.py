@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mujoco
 
-from vlm_bench.sim.objects.base import OBJECT_BUILDERS, PLAIN, Kit, object_body, shade
+from vlm_bench.sim.objects.base import OBJECT_BUILDERS, PLAIN, object_kit, shade
 from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
 from vlm_bench.types.world import ObjectKind
@@ -21,8 +21,7 @@ def build_table(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A four-legged table (fixed): top, apron and legs; its top surface is at ``size.z``."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     lx, ly, h = kind.size
     top = kit.look(rgba)
     frame = kit.look(shade(rgba, 0.8))
@@ -46,5 +45,4 @@ def build_table(
         kit.box(f"apron_{name}", (0.01, ly_in, apron_h / 2), (sign * lx_in, 0.0, z), frame)
     for name, sign in (("left", 1.0), ("right", -1.0)):
         kit.box(f"apron_{name}", (lx_in, 0.01, apron_h / 2), (0.0, sign * ly_in, z), frame)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)

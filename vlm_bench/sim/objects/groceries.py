@@ -10,7 +10,7 @@ from vlm_bench.sim.objects.base import (
     Kit,
     Look,
     is_light,
-    object_body,
+    object_kit,
     paint,
     shade,
 )
@@ -91,8 +91,7 @@ def build_banana(
 
     Hidden capsules along the axis collide; each touches the ground, so it lies flat.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     rings = _banana_axis(*kind.size)
     verts, faces = tube(rings)
     kit.mesh("skin", verts, 1e-6, rgba, faces, solid=False)
@@ -107,8 +106,7 @@ def build_banana(
     dark = (0.22, 0.15, 0.06, 1.0)
     kit.sphere("stem_end", 0.0055, stem_end, dark, solid=False)
     kit.rod("tip", (x1 - 0.004, y1, r1), (x1 + 0.006, y1 - 0.003, r1), 0.0055, dark)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("meat_can")
@@ -120,8 +118,7 @@ def build_meat_can(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A rounded-rectangle tin: labelled sides, metal lid and base rim."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     metal = kit.look(METAL)
     label = textured_look(spec, tin_label, rgba)
@@ -129,8 +126,7 @@ def build_meat_can(
     rounded_slab(kit, "label", sx, sy, 0.013, 0.006, sz - 0.008, label)
     rounded_slab(kit, "lid", sx - 0.002, sy - 0.002, 0.012, sz - 0.008, sz, metal)
     kit.box("key", (0.004, 0.012, 0.0008), (0.0, 0.0, sz + 0.0004), shade(METAL, 0.8), solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("tomato_can")
@@ -142,8 +138,7 @@ def build_tomato_can(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A soup can: label in the colour over white with a gold band, metal rims."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     radius, sz = min(kind.size[:2]) / 2, kind.size[2]
     metal = kit.look(METAL)
     kit.cylinder("base", radius - 0.001, 0.003, (0.0, 0.0, 0.003), metal)
@@ -153,8 +148,7 @@ def build_tomato_can(
     kit.cylinder(
         "lid_ring", radius - 0.006, 0.0004, (0.0, 0.0, sz), shade(METAL, 0.85), solid=False
     )
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("cleanser")
@@ -170,8 +164,7 @@ def build_cleanser(
     A top-down hand reaches only ~4 cm down the bottle before its palm meets the cap, so it
     holds the bottle by the cap: 3.6 cm across and (at 0.21 m) 2.8 cm tall.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     plastic = kit.look(rgba)
     cap = kit.look((0.1, 0.3, 0.8, 1.0) if is_light(rgba) else WHITE)
@@ -193,8 +186,7 @@ def build_cleanser(
             label,
             solid=False,
         )
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("chocolate_box")
@@ -206,8 +198,7 @@ def build_chocolate_box(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A flat box with a lid seam, a shiny gold band around it and a gold label on top."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     gold = paint(spec, GOLD, specular=0.8, shininess=0.7)
     kit.box(
@@ -222,8 +213,7 @@ def build_chocolate_box(
         shade(rgba, 0.55),
         solid=False,
     )
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("box")
@@ -235,8 +225,7 @@ def build_box(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A closed cardboard box in the given colour, taped shut, with a shipping label."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     board = textured_look(spec, cardboard, rgba, specular=0.05)
     kit.box(
@@ -253,5 +242,4 @@ def build_box(
         kit.box(f"tape_end{int(side)}", (0.011, 0.0005, 0.02), pos, tape, solid=False)
     label = textured_look(spec, shipping_label, INK)
     kit.box("label", (0.0005, 0.028, 0.018), (sx / 2, 0.008, sz * 0.45), label, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)

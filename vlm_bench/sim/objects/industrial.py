@@ -9,8 +9,7 @@ import mujoco
 from vlm_bench.sim.objects.base import (
     GRIP,
     OBJECT_BUILDERS,
-    Kit,
-    object_body,
+    object_kit,
     paint,
     shade,
 )
@@ -34,8 +33,7 @@ def build_bolt(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A hex flange bolt lying on its side, shaft along +x, head at -x, threads drawn."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     lx, dy, dz = kind.size
     steel = paint(spec, rgba, specular=0.7, shininess=0.6)
     r_head = dy / 2  # hexagon corner radius: 2.2 cm across corners, flats up and down
@@ -64,8 +62,7 @@ def build_bolt(
     pos = (lx / 2 - thread_len / 2, 0.0, zc)
     thread = textured_look(spec, threads, rgba, specular=0.6)
     kit.cylinder("thread", shaft_r, thread_len / 2, pos, thread, _X_AXIS)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("nut")
@@ -80,8 +77,7 @@ def build_nut(
 
     Drawn as a mesh with a bore; six hidden boxes (one per flat) collide.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     width, h = min(kind.size[:2]), kind.size[2]
     corner_r = width / 2 / math.cos(math.radians(15.0))
     hole_r = 0.45 * corner_r
@@ -96,8 +92,7 @@ def build_nut(
         r = apothem - t / 2
         pos = (r * math.cos(math.radians(az)), r * math.sin(math.radians(az)), h / 2)
         kit.hide(kit.box(f"side{i}", (t / 2, corner_r / 2, h / 2), pos, look, yaw(az)))
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("camera_module")
@@ -109,8 +104,7 @@ def build_camera_module(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A camera: boxy body with a lens barrel toward +x (silver ring, glass) and a red LED."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     lx, ly, h = kind.size
     lens_len = 0.3 * lx
     bx = lx - lens_len
@@ -134,8 +128,7 @@ def build_camera_module(
     led = (0.95, 0.1, 0.1, 1.0)
     kit.sphere("led", 0.0018, (front + 0.0002, ly / 2 - 0.007, h - 0.007), led, solid=False)
     kit.box("mount", (0.008, 0.008, 0.0004), (-lx / 2 + bx / 2, 0.0, h), ring, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("lidar")
@@ -150,8 +143,7 @@ def build_lidar(
 
     The flange is as wide as the kind; the housing above it is 7 cm across, the grasp.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     width, h = min(kind.size[:2]), kind.size[2]
     housing = paint(spec, rgba, specular=0.35, shininess=0.4)
     flange_h = 0.01
@@ -167,5 +159,4 @@ def build_lidar(
         z = band_z + dz * body_h
         kit.cylinder(f"trim{i}", r + 0.0006, 0.0008, (0.0, 0.0, z), trim, solid=False)
     kit.cylinder("logo", 0.4 * r, 0.0003, (0.0, 0.0, h), trim, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)

@@ -14,7 +14,7 @@ from vlm_bench.sim.objects.base import (
     Look,
     is_light,
     mix,
-    object_body,
+    object_kit,
     shade,
 )
 from vlm_bench.sim.objects.frames import axis_angle, quat_mul, yaw
@@ -68,8 +68,7 @@ def build_plate(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A round plate: foot ring, flat well and a raised rim with a thin coloured band."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, PLAIN)
+    kit = object_kit(spec, parent, obj, kind, PLAIN)
     radius, h = min(kind.size[:2]) / 2, kind.size[2]
     glaze = kit.look(rgba)
     kit.cylinder("foot", 0.5 * radius, 0.0015, (0.0, 0.0, 0.0015), shade(rgba, 0.92))
@@ -82,8 +81,7 @@ def build_plate(
     band = (0.2, 0.35, 0.7, 1.0) if is_light(rgba) else WHITE
     kit.cylinder("band", well_r + 0.001, 0.0002, (0.0, 0.0, 0.0091), band, solid=False)
     kit.cylinder("well_top", well_r - 0.004, 0.0002, (0.0, 0.0, 0.0095), glaze, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("bowl")
@@ -98,8 +96,7 @@ def build_bowl(
 
     Grasped by the rim (the wall is 1 cm thick), it holds a small cube.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     radius, h = min(kind.size[:2]) / 2, kind.size[2]
     glaze = kit.look(rgba)
     t = 0.01
@@ -109,8 +106,7 @@ def build_bowl(
     knee = (0.84 * radius, 0.5 * h)
     tilted_ring(kit, "wall_low", (floor_r - 0.004, 0.01), knee, t, 16, glaze)
     tilted_ring(kit, "wall_high", knee, (radius - t / 2 - 0.002, h - 0.003), t, 16, glaze)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("mug")
@@ -126,8 +122,7 @@ def build_mug(
     The cup is hollow where it collides (a 5 mm wall of segments and the foot as its floor),
     so a gripper can hold it by the rim, one finger inside; it is drawn as a plain cylinder.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     lx, ly, h = kind.size
     foot_r = ly / 2
     body_r = min(foot_r - 0.004, 0.036)
@@ -147,8 +142,7 @@ def build_mug(
     kit.rod("handle_top", (c + body_r - 0.004, 0.0, 0.8 * h), top, r, glaze)
     kit.rod("handle_side", top, bottom, r, glaze)
     kit.rod("handle_bottom", bottom, (c + body_r - 0.004, 0.0, 0.3 * h), r, glaze)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("cup")
@@ -163,8 +157,7 @@ def build_cup(
 
     The frustum is a drawn mesh; four hidden stacked cylinders collide.
     """
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     r_top, h = min(kind.size[:2]) / 2, kind.size[2]
     r_bot = 0.72 * r_top
     verts = prism(28, r_bot, r_top, h)
@@ -180,5 +173,4 @@ def build_cup(
         kit.cylinder(f"ridge{i}", r, 0.0012, (0.0, 0.0, h * frac), shade(rgba, 0.8), solid=False)
     inside = shade(rgba, 0.7) if is_light(rgba) else mix(rgba, WHITE, 0.8)
     kit.cylinder("opening", r_top - 0.003, 0.0003, (0.0, 0.0, h), inside, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)

@@ -7,9 +7,8 @@ import mujoco
 from vlm_bench.sim.objects.base import (
     GRIP,
     OBJECT_BUILDERS,
-    Kit,
     mix,
-    object_body,
+    object_kit,
 )
 from vlm_bench.sim.objects.frames import axis_angle
 from vlm_bench.sim.objects.textures import sticker_face, textured_look, wood_grain
@@ -39,12 +38,10 @@ def build_cube(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A solid block of one colour."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     kit.box("body", (sx / 2, sy / 2, sz / 2), (0.0, 0.0, sz / 2), kit.look(rgba))
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("rubiks_cube")
@@ -56,8 +53,7 @@ def build_rubiks_cube(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A black cube whose six faces carry 3 × 3 stickers in the standard colours."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     edge = min(kind.size)
     half = edge / 2 - 0.0006
     kit.box("body", (half, half, half), (0.0, 0.0, edge / 2), rgba)
@@ -68,8 +64,7 @@ def build_rubiks_cube(
         look = textured_look(spec, sticker_face, colour, specular=0.3)
         quat = axis_angle(axis, deg)
         kit.box(f"stickers_{name}", (half, half, 0.0003), pos, look, quat, solid=False)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("wood_block")
@@ -81,13 +76,11 @@ def build_wood_block(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A wooden bar with a grain texture."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     look = textured_look(spec, wood_grain, rgba, specular=0.1)
     kit.box("body", (sx / 2, sy / 2, sz / 2), (0.0, 0.0, sz / 2), look)
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
 
 
 @OBJECT_BUILDERS.register("teddy_bear")
@@ -99,8 +92,7 @@ def build_teddy_bear(
     rgba: RGBA,
 ) -> mujoco.MjsBody:
     """A bear sitting upright facing +x: legs forward, arms at its sides, grasped by the head."""
-    body = object_body(parent, obj, kind)
-    kit = Kit(spec, body, obj.id, GRIP)
+    kit = object_kit(spec, parent, obj, kind, GRIP)
     fur = kit.look(rgba)
     pale = kit.look(mix(rgba, (0.95, 0.85, 0.7, 1.0), 0.55))
     dark = kit.look((0.05, 0.04, 0.04, 1.0))
@@ -148,5 +140,4 @@ def build_teddy_bear(
     kit.ellipsoid(
         "nose", (0.005 * k, 0.007 * k, 0.005 * k), (0.032 * k, 0.0, 0.118 * k), dark, solid=False
     )
-    kit.finish(kind.mass)
-    return body
+    return kit.finish(kind.mass)
