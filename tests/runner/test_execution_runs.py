@@ -16,9 +16,9 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.report import EXEC_VALUES, SUMMARY_COLUMNS
 from vlm_bench.runner import PlanExecutor, episode_noise_seed, record_plan
-from vlm_bench.runner.execution import EXECUTOR_CRASH, executor_config
+from vlm_bench.runner.execution import CRASH_PREFIX, executor_config
 from vlm_bench.storage import ConfigMismatchError, latest_records
-from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
+from vlm_bench.types.execution import ExecutionSummary, FailureCode, ReplayOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.plan import Direction, UavStep
 from vlm_bench.types.records import EpisodeRecord
@@ -124,7 +124,8 @@ def test_an_executor_exception_is_a_recorded_failure(
     result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), replay=inline)
     hop = next(r for r in result.records if r.variant == "explicit")
     assert hop.ok and hop.execution is not None and not hop.execution.exec_success
-    assert hop.execution.failure_reason == f"{EXECUTOR_CRASH} RuntimeError: boom"
+    assert hop.execution.failure_reason == f"{CRASH_PREFIX} RuntimeError: boom"
+    assert hop.execution.failure_code is FailureCode.EXECUTOR_CRASH
     assert result.stats["exec_crashes"] == 1 and len(result.records) == 2
     assert _row(result.summary, "explicit").exec_success == 0.0
 

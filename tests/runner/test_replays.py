@@ -33,7 +33,7 @@ from vlm_bench.runner.replays import (
 )
 from vlm_bench.storage import latest_records, read_records
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
+from vlm_bench.types.execution import ExecutionSummary, FailureCode, ReplayOptions
 from vlm_bench.types.plan import Direction, UavStep, plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.scores import ScoringConfig
@@ -170,6 +170,7 @@ def test_a_replay_that_keeps_killing_its_worker_is_recorded_as_a_crash() -> None
     (out,) = list(replays.drain())
     assert out.execution is not None and not out.execution.exec_success
     assert WORKER_DIED in (out.execution.failure_reason or "")
+    assert out.execution.failure_code is FailureCode.EXECUTOR_CRASH
     assert replays.stats.crashes == 1
 
 

@@ -74,7 +74,7 @@ def parse_instructions(text: str) -> tuple[InstructionVariant, ...]:
 
 def _print_summary(result: RunResult) -> None:
     from vlm_bench.report import summary_rich
-    from vlm_bench.runner.execution import EXECUTOR_CRASH
+    from vlm_bench.types.execution import FailureCode
 
     console.print(summary_rich(result.summary, title=result.run_id, width=console.width))
     stats = result.stats
@@ -96,7 +96,7 @@ def _print_summary(result: RunResult) -> None:
     crashed = [
         (r.key, r.execution.failure_reason)
         for r in result.records
-        if r.execution is not None and (r.execution.failure_reason or "").startswith(EXECUTOR_CRASH)
+        if r.execution is not None and r.execution.failure_code is FailureCode.EXECUTOR_CRASH
     ]
     if crashed:
         key, reason = crashed[0]

@@ -3,8 +3,9 @@
 The executable plan of a record is its parse's valid steps (what ``record.plan`` holds); an
 output with no usable plan is not executed (``execution`` stays None and the episode counts as
 not successful). Execution never stops a run: an exception from the executor becomes a failed
-:class:`~vlm_bench.types.execution.ExecutionSummary` whose reason starts with
-:data:`EXECUTOR_CRASH`. The simulator is imported only when a plan is executed.
+:class:`~vlm_bench.types.execution.ExecutionSummary` with code
+:attr:`~vlm_bench.types.execution.FailureCode.EXECUTOR_CRASH` and the exception as its
+reason. The simulator is imported only when a plan is executed.
 """
 
 from __future__ import annotations
@@ -15,14 +16,14 @@ import time
 from typing import TYPE_CHECKING
 
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
 from vlm_bench.types.records import EpisodeRecord
 
 if TYPE_CHECKING:
     from vlm_bench.sim.scene import Scene
 
-EXECUTOR_CRASH = "executor raised"
+CRASH_PREFIX = "executor raised"
 """Start of the failure reason of an execution that ended in an exception."""
 
 
@@ -55,7 +56,8 @@ def crash_summary(exc: Exception, wall_time_s: float) -> ExecutionSummary:
         n_steps_done=0,
         s_task=0.0,
         sim_time_s=0.0,
-        failure_reason=f"{EXECUTOR_CRASH} {type(exc).__name__}: {exc}",
+        failure_reason=f"{CRASH_PREFIX} {type(exc).__name__}: {exc}",
+        failure_code=FailureCode.EXECUTOR_CRASH,
         wall_time_s=max(0.0, wall_time_s),
     )
 
@@ -84,7 +86,7 @@ class PlanExecutor:
 
     def scene(self, episode: Episode) -> Scene:
         """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
-        from vlm_bench.executor.executor import episode_scene
+        from vlm_bench.executor.plan_replay import episode_scene
 
         key = (episode.task_id, episode.seed)
         if self._template is None or self._template[0] != key:
