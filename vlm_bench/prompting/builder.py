@@ -14,6 +14,7 @@ from vlm_bench.prompting.skills_section import skill_rows, skills_digest
 from vlm_bench.prompting.templates import render, templates_digest
 from vlm_bench.rules import format_scene, rule_numbers, scene_entries
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.generation import TextPart
 from vlm_bench.types.plan import Direction, plan_to_json
 from vlm_bench.types.prompt import (
     FewShotExample,
@@ -21,7 +22,6 @@ from vlm_bench.types.prompt import (
     Prompt,
     PromptConfig,
     PromptPart,
-    TextPart,
 )
 
 _PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
