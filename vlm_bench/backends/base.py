@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
-from types import TracebackType
 from typing import ClassVar, Self, TypeVar
 
 from pydantic import BaseModel, ConfigDict, ValidationError
 
+from vlm_bench.closing import ClosesOnExit
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 
@@ -47,7 +47,7 @@ def parse_args(backend: str, model: type[A], raw: Mapping[str, str]) -> A:
         ) from None
 
 
-class Backend(ABC):
+class Backend(ClosesOnExit, ABC):
     """Generates completions for batches of requests.
 
     Subclasses implement :meth:`generate`. A backend never raises for a failed generation:
@@ -76,19 +76,8 @@ class Backend(ABC):
         """How many requests the caller may usefully hand over at once (1 = sequential)."""
         return 1
 
-    def close(self) -> None:  # noqa: B027  (optional hook, empty by default)
+    def close(self) -> None:
         """Release models, clients or servers. Idempotent."""
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 def require_schemas(

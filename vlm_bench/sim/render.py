@@ -15,13 +15,13 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 import math
 from collections.abc import Mapping, Sequence
-from types import TracebackType
 
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
+from vlm_bench.closing import ClosesOnExit
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.sim.gl_preload import before_first_gl_context
 from vlm_bench.sim.labels import Font, ui_font
@@ -32,7 +32,7 @@ DEFAULT_SHADOWS = True
 _MAX_GEOM = 10_000
 
 
-class SnapshotRenderer:
+class SnapshotRenderer(ClosesOnExit):
     """Renders RGB snapshots from a model's named cameras, reusing one GL context.
 
     Use as a context manager or call :meth:`close`. A model's GPU resources are cached for the
@@ -142,17 +142,6 @@ class SnapshotRenderer:
                 self._mjr.free()
             self._gl.free()
         self._gl, self._mjr, self._scene, self._model = None, None, None, None
-
-    def __enter__(self) -> SnapshotRenderer:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()
 
     def _bind(self, model: mujoco.MjModel, size: int) -> tuple[mujoco.MjvScene, mujoco.MjrContext]:
         """Make the GL context current and (re)upload ``model`` if it is not the cached one."""

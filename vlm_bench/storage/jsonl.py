@@ -11,9 +11,9 @@ import json
 import os
 from collections.abc import Iterator
 from pathlib import Path
-from types import TracebackType
-from typing import IO, Any, Self
+from typing import IO, Any
 
+from vlm_bench.closing import ClosesOnExit
 from vlm_bench.errors import DataFileError
 
 
@@ -74,7 +74,7 @@ def iter_jsonl(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
             yield number, obj
 
 
-class JsonlWriter:
+class JsonlWriter(ClosesOnExit):
     """Appends JSON objects to a file, one durable line each (flush + fsync per line)."""
 
     def __init__(self, path: Path, *, fsync: bool = True) -> None:
@@ -100,17 +100,6 @@ class JsonlWriter:
         if self._fh is not None:
             self._fh.close()
             self._fh = None
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 def write_jsonl_atomic(path: Path, lines: list[str]) -> None:
