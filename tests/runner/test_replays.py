@@ -85,6 +85,11 @@ def test_ray_pool_gives_the_same_outcomes() -> None:
     pool = RayPool(2)
     try:
         got = [f.result(timeout=300)[0] for f in [pool.submit(j) for j in jobs]]
+        for _ in range(100):  # the refs are dropped by the futures' done-callbacks
+            if pool.held == 0:
+                break
+            time.sleep(0.05)
+        assert pool.held == 0  # finished replays do not pin their results
     finally:
         pool.close()
     assert [_outcome(s) for s in got] == [_outcome(replay(j)[0]) for j in jobs]

@@ -34,7 +34,9 @@ class RayPool:
         self._ray: Any = None
         self._task: Any = None
         self._started = False
-        self._refs: list[Any] = []
+        self._refs: dict[int, Any] = {}
+        """The object refs of replays in flight (for cancelling; finished ones are dropped so
+        a long sweep does not pin its results in the object store)."""
 
     def _connect(self) -> Any:
         if self._ray is not None:
@@ -57,9 +59,15 @@ class RayPool:
     def submit(self, job: ReplayJob) -> Future[Replayed]:
         self._connect()
         ref = self._task.remote(job)
-        self._refs.append(ref)
         future: Future[Replayed] = ref.future()
+        self._refs[id(future)] = ref
+        future.add_done_callback(lambda done: self._refs.pop(id(done), None))
         return future
+
+    @property
+    def held(self) -> int:
+        """Object refs held: replays in flight (a finished one's ref is dropped)."""
+        return len(self._refs)
 
     def restart(self) -> None:
         return None  # Ray restarts dead workers itself
@@ -69,7 +77,7 @@ class RayPool:
         if ray is None:
             return
         if cancel:
-            for ref in self._refs:
+            for ref in list(self._refs.values()):
                 ray.cancel(ref, force=True)
         self._refs.clear()
         if self._started:
