@@ -4,7 +4,7 @@ Each replay is a Ray task of one CPU: Ray schedules the tasks over the cluster's
 a task whose worker process died (:data:`MAX_RETRIES`) and shows them in its dashboard. With no
 address, a local cluster of ``workers`` CPUs is started for the run and stopped after it; with
 one (``--ray-address ray://head:10001`` or ``auto``), the run joins that cluster, whose nodes
-need vlm-bench installed (see the README's two-machine recipe).
+need vlm-bench installed (see the two-machine recipe in docs/scaling.md).
 """
 
 from __future__ import annotations
