@@ -13,6 +13,7 @@ import time
 from collections.abc import Sequence
 from importlib.util import find_spec
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pytest
 from pydantic import ValidationError
@@ -27,6 +28,9 @@ from vlm_bench.types.run import RunConfig, RunManifest
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.skill import SkillSpec
 from vlm_bench.types.task import TaskSpec
+
+if TYPE_CHECKING:
+    from tests.cli.conftest import Cli
 
 ROOT = Path(__file__).resolve().parents[2]
 TASK = "standard_pick_place"
@@ -66,19 +70,6 @@ def _run(out: Path, *extra: str, model: Sequence[str] = ("--model", "oracle")) -
         str(out),
         *extra,
     ]
-
-
-def _cli(*args: str, cwd: Path = ROOT, env: dict[str, str] | None = None, timeout: float = 120):
-    code = "from vlm_bench.cli.main import main; main()"
-    return subprocess.run(
-        [sys.executable, "-c", code, *args],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        env=env,
-        timeout=timeout,
-        check=False,
-    )
 
 
 # Finite numbers only ------------------------------------------------------------------------
@@ -243,7 +234,7 @@ def test_a_resumed_run_that_fails_keeps_its_folder(tmp_path: Path) -> None:
     assert (out / "manifest.json").is_file()
 
 
-def test_an_unknown_hub_id_without_network_fails_fast(tmp_path: Path) -> None:
+def test_an_unknown_hub_id_without_network_fails_fast(cli: Cli, tmp_path: Path) -> None:
     if find_spec("transformers") is None or find_spec("torch") is None:
         pytest.skip("needs the hf extra")
     env = {
@@ -251,7 +242,7 @@ def test_an_unknown_hub_id_without_network_fails_fast(tmp_path: Path) -> None:
     }
     env["HF_HOME"] = str(tmp_path / "hf-home")  # an empty cache
     started = time.monotonic()
-    done = _cli(
+    done = cli.run(
         *_run(tmp_path / "run", model=("--model", "vlm-bench-tests/no-such-model")),
         env=env,
         timeout=90,
@@ -289,14 +280,14 @@ def test_non_utf8_task_and_skill_files_are_named(tmp_path: Path) -> None:
         assert str(bad) in str(info.value) and "\n" not in str(info.value)
 
 
-def test_a_non_utf8_skill_file_through_the_cli(tmp_path: Path) -> None:
+def test_a_non_utf8_skill_file_through_the_cli(cli: Cli, tmp_path: Path) -> None:
     data = tmp_path / "data"
     for name in ("ground_truth", "skills", "prompts", "models"):
         if (ROOT / name).is_dir():
             shutil.copytree(ROOT / name, data / name)
     bad = data / "skills" / "pick.json"
     bad.write_bytes(bad.read_bytes() + b"\xff")
-    done = _cli("episode", TASK, env={**os.environ, "VLM_BENCH_DATA_DIR": str(data)})
+    done = cli.run("episode", TASK, env={**os.environ, "VLM_BENCH_DATA_DIR": str(data)})
     _one_line_error(done.returncode, done.stderr, str(bad), "not UTF-8")
 
 
@@ -350,9 +341,10 @@ def test_seed_ranges_are_capped(
 
 
 def test_an_unstable_simulation_writes_no_log_file_into_the_working_folder(
+    cli: Cli,
     tmp_path: Path,
 ) -> None:
-    done = _cli("execute", TASK, "--uav-noise", "1e300", "--json", cwd=tmp_path)
+    done = cli.run("execute", TASK, "--uav-noise", "1e300", "--json", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     result = json.loads(done.stdout)
     assert result["exec_success"] is False and "unstable" in result["failure_reason"]
@@ -363,6 +355,7 @@ def test_an_unstable_simulation_writes_no_log_file_into_the_working_folder(
 _TRITON_RUN = """
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import vlm_bench
 from vlm_bench.backends import Backend, resolve_backend
@@ -433,7 +426,7 @@ def test_a_run_after_the_process_rendered_on_its_own_does_not_crash(tmp_path: Pa
 
 
 @pytest.mark.slow
-def test_a_first_hf_run_with_triton_installed_exits_0(tmp_path: Path) -> None:
+def test_a_first_hf_run_with_triton_installed_exits_0(cli: Cli, tmp_path: Path) -> None:
     if any(find_spec(m) is None for m in ("torch", "transformers", "tokenizers", "triton")):
         pytest.skip("needs torch, transformers, tokenizers and triton")
     build = (
@@ -451,7 +444,7 @@ def test_a_first_hf_run_with_triton_installed_exits_0(tmp_path: Path) -> None:
     )
     args = _run(tmp_path / "run", model=("--model", str(model)))
     args.remove("--no-images")
-    done = _cli(
+    done = cli.run(
         *args, "--resolution", "32", "--max-new-tokens", "4", "--no-snapshot-cache", cwd=tmp_path
     )
     assert done.returncode == 0, (done.returncode, done.stderr[-2000:])

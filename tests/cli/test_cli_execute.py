@@ -3,19 +3,19 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 import pytest
-import typer
 from PIL import Image, ImageSequence
-from typer.testing import CliRunner
 
 from vlm_bench.errors import VlmBenchError
 from vlm_bench.storage import latest_records
 from vlm_bench.types.execution import ExecutionResult
+
+if TYPE_CHECKING:
+    from tests.cli.conftest import Cli
 
 ROOT = Path(__file__).resolve().parents[2]
 TASK = "standard_pick_place"
@@ -26,64 +26,37 @@ TWO_MOVES = [
 ]
 
 
-def _app() -> typer.Typer:
-    from vlm_bench.cli.main import _register, app
-
-    if not any(getattr(c.callback, "__name__", "") == "execute" for c in app.registered_commands):
-        _register()
-    return app
-
-
-def _invoke(*args: str) -> str:
-    result = CliRunner().invoke(_app(), list(args), catch_exceptions=False)
-    assert result.exit_code == 0, result.output
-    return result.output
-
-
-def _cli(*args: str) -> subprocess.CompletedProcess[str]:
-    """The real console entry point (one-line errors, exit codes)."""
-    code = "from vlm_bench.cli.main import main; main()"
-    return subprocess.run(
-        [sys.executable, "-c", code, *args],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=120,
-        check=False,
-    )
-
-
 def _plan_file(tmp_path: Path, plan: object, name: str = "plan.json") -> Path:
     path = tmp_path / name
     path.write_text(plan if isinstance(plan, str) else json.dumps(plan))
     return path
 
 
-def test_execute_a_hand_written_plan(tmp_path: Path) -> None:
+def test_execute_a_hand_written_plan(cli: Cli, tmp_path: Path) -> None:
     plan = _plan_file(tmp_path, TWO_MOVES)
-    printed = _invoke("execute", TASK, "--seed", "0", "--plan", str(plan))
+    printed = cli.invoke("execute", TASK, "--seed", "0", "--plan", str(plan))
     assert "move front 0.3 m" in printed and "move up 0.2 m" in printed
     assert "plan.json (2 steps)" in printed and "goals:" in printed
     assert "exec_success: no" in printed and "S_task=0.0" in printed and "S_safe=" in printed
-    data = json.loads(_invoke("execute", TASK, "--plan", str(plan), "--json"))
+    data = json.loads(cli.invoke("execute", TASK, "--plan", str(plan), "--json"))
     result = ExecutionResult.model_validate(data)
     assert [s.status for s in result.steps] == ["ok", "ok"] and result.steps_ok
     assert not result.exec_success and result.failure_reason is not None
 
 
-def _user_error(*args: str) -> str:
+def _user_error(cli: Cli, *args: str) -> str:
     """The one-line message of the VlmBenchError a command raises (in-process: fast)."""
-    result = CliRunner().invoke(_app(), list(args))
+    result = cli.result(*args)
     assert isinstance(result.exception, VlmBenchError), result.output
     message = str(result.exception)
     assert "\n" not in message
     return message
 
 
-def test_invalid_plan_files_are_one_line_errors(tmp_path: Path) -> None:
+def test_invalid_plan_files_are_one_line_errors(cli: Cli, tmp_path: Path) -> None:
     # The real entry point once: exit code 2, one line on stderr, no traceback.
     prose = _plan_file(tmp_path, "I would fly to the table.", "prose.txt")
-    bad = _cli("execute", TASK, "--plan", str(prose))
+    bad = cli.run("execute", TASK, "--plan", str(prose))
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1, bad.stderr
     assert bad.stderr.startswith("error: prose.txt: no plan"), bad.stderr
     cases = {
@@ -95,16 +68,16 @@ def test_invalid_plan_files_are_one_line_errors(tmp_path: Path) -> None:
     }
     for name, (content, message) in cases.items():
         plan = _plan_file(tmp_path, content, name)
-        assert message in _user_error("execute", TASK, "--plan", str(plan))
-    missing = _user_error("execute", TASK, "--plan", str(tmp_path / "nope.json"))
+        assert message in _user_error(cli, "execute", TASK, "--plan", str(plan))
+    missing = _user_error(cli, "execute", TASK, "--plan", str(tmp_path / "nope.json"))
     assert "cannot read plan file" in missing
     hop = str(_plan_file(tmp_path, HOP))
     video = ["--video", str(tmp_path / "v.gif"), "--size", "32"]
-    camera = _user_error("execute", TASK, "--plan", hop, *video, "--camera", "top")
+    camera = _user_error(cli, "execute", TASK, "--plan", hop, *video, "--camera", "top")
     assert "unknown camera 'top'" in camera
-    suffix = _user_error("execute", TASK, "--video", str(tmp_path / "v.avi"))
+    suffix = _user_error(cli, "execute", TASK, "--video", str(tmp_path / "v.avi"))
     assert "unknown video format '.avi'" in suffix
-    fps = _user_error("execute", TASK, "--plan", hop, *video, "--fps", "50")
+    fps = _user_error(cli, "execute", TASK, "--plan", hop, *video, "--fps", "50")
     assert "fps must be in (0, 20]" in fps
 
 
@@ -113,9 +86,9 @@ def _gif_frames(path: Path) -> list[Image.Image]:
         return [frame.convert("RGB") for frame in ImageSequence.Iterator(gif)]
 
 
-def test_video_gif_has_frames_of_the_flight(tmp_path: Path) -> None:
+def test_video_gif_has_frames_of_the_flight(cli: Cli, tmp_path: Path) -> None:
     gif = tmp_path / "hop.gif"
-    printed = _invoke(
+    printed = cli.invoke(
         "execute",
         TASK,
         "--plan",
@@ -137,12 +110,12 @@ def test_video_gif_has_frames_of_the_flight(tmp_path: Path) -> None:
     assert frames[0].tobytes() != frames[-1].tobytes()  # the UAV climbed
 
 
-def test_video_mp4(tmp_path: Path) -> None:
+def test_video_mp4(cli: Cli, tmp_path: Path) -> None:
     pytest.importorskip("imageio_ffmpeg")
     import imageio.v2 as imageio
 
     mp4 = tmp_path / "hop.mp4"
-    _invoke(
+    cli.invoke(
         "execute",
         TASK,
         "--plan",
@@ -166,7 +139,7 @@ def test_video_mp4(tmp_path: Path) -> None:
     assert len(frames) > 10 and frames[0].shape == (64, 64, 3)
 
 
-def test_run_executes_by_default_and_refuses_other_gusts(tmp_path: Path) -> None:
+def test_run_executes_by_default_and_refuses_other_gusts(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
     args = [
         "run",
@@ -184,7 +157,7 @@ def test_run_executes_by_default_and_refuses_other_gusts(tmp_path: Path) -> None
         "32",
         "--no-progress",
     ]
-    printed = _invoke(*args, "--out", str(out))
+    printed = cli.invoke(*args, "--out", str(out))
     assert "1 plan(s) executed" in printed and "Exec" in printed
     (record,) = latest_records(out / "records.jsonl")
     assert record.execution is not None and record.execution.steps_ok
@@ -192,9 +165,9 @@ def test_run_executes_by_default_and_refuses_other_gusts(tmp_path: Path) -> None
     assert {"exec_success", "S_task", "S_pos", "S_arm", "S_safe", "VLA_total"} <= set(
         summary.columns
     )
-    refused = _cli(*args, "--out", str(out), "--uav-noise", "1.5")
+    refused = cli.run(*args, "--out", str(out), "--uav-noise", "1.5")
     assert refused.returncode == 2 and "differs: uav_noise" in refused.stderr
     assert refused.stderr.count("\n") == 1
-    both = _cli(*args, "--out", str(tmp_path / "x"), "--no-execute", "--uav-noise", "1")
+    both = cli.run(*args, "--out", str(tmp_path / "x"), "--no-execute", "--uav-noise", "1")
     assert both.returncode == 2 and "uav_noise > 0 needs execute" in both.stderr
     assert not (tmp_path / "x").exists()

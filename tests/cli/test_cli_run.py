@@ -6,51 +6,23 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 import pytest
-import typer
 from filelock import FileLock
-from typer.testing import CliRunner
 
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.episodes import make_episode
 from vlm_bench.storage import latest_records
 from vlm_bench.types.plan import UavStep, plan_to_json
 
+if TYPE_CHECKING:
+    from tests.cli.conftest import Cli
+
 ROOT = Path(__file__).resolve().parents[2]
 FEW = ("standard_pick_place", "target_color_yellow", "synonym_block_bin", "tower_stacking")
 METRICS = ["S_plan", "S_loc", "S_obj", "S_skill", "S_total", "Succ"]
-
-
-def _app() -> typer.Typer:
-    from vlm_bench.cli.main import _register, app
-
-    if not any(
-        c.name == "run" or getattr(c.callback, "__name__", "") == "run"
-        for c in app.registered_commands
-    ):
-        _register()
-    return app
-
-
-def _invoke(*args: str) -> str:
-    result = CliRunner().invoke(_app(), list(args), catch_exceptions=False)
-    assert result.exit_code == 0, result.output
-    return result.output
-
-
-def _cli(*args: str) -> subprocess.CompletedProcess[str]:
-    """The real console entry point (one-line errors, exit codes)."""
-    code = "from vlm_bench.cli.main import main; main()"
-    return subprocess.run(
-        [sys.executable, "-c", code, *args],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=120,
-        check=False,
-    )
 
 
 def _run_args(out: Path, model: str, tasks: tuple[str, ...], seeds: str = "0-1") -> list[str]:
@@ -73,9 +45,9 @@ def _run_args(out: Path, model: str, tasks: tuple[str, ...], seeds: str = "0-1")
     return args
 
 
-def test_oracle_run_scores_100_everywhere(tmp_path: Path) -> None:
+def test_oracle_run_scores_100_everywhere(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "oracle"
-    printed = _invoke(*_run_args(out, "oracle", FEW))
+    printed = cli.invoke(*_run_args(out, "oracle", FEW))
     summary = pd.read_csv(out / "summary.csv")
     assert set(summary.instruction) == {"explicit", "implicit", "both"}
     assert set(summary.suite) == {
@@ -96,19 +68,19 @@ def test_oracle_run_scores_100_everywhere(tmp_path: Path) -> None:
     assert (out / "summary.md").read_text().count("| oracle |") == 3
 
 
-def test_random_run_scores_far_below(tmp_path: Path) -> None:
+def test_random_run_scores_far_below(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "random"
-    _invoke(*_run_args(out, "random", FEW))
+    cli.invoke(*_run_args(out, "random", FEW))
     summary = pd.read_csv(out / "summary.csv")
     overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
     assert overall.S_total < 60.0 and overall.Succ <= 10.0, overall
 
 
-def test_perception_conditions_through_the_cli(tmp_path: Path) -> None:
+def test_perception_conditions_through_the_cli(cli: Cli, tmp_path: Path) -> None:
     """--scene-as-text with the rules planner is perfect; --no-images sends no image; the
     records carry the shuffled object order and whether the first target was in view."""
     out = tmp_path / "rules"
-    printed = _invoke(*_run_args(out, "rules", FEW), "--scene-as-text", "--no-images")
+    printed = cli.invoke(*_run_args(out, "rules", FEW), "--scene-as-text", "--no-images")
     summary = pd.read_csv(out / "summary.csv")
     assert (summary[METRICS] == 100.0).all().all(), summary
     assert "ΔLoc" in printed
@@ -123,9 +95,9 @@ def test_perception_conditions_through_the_cli(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
-def test_oracle_full_sweep_all_60_tasks(tmp_path: Path) -> None:
+def test_oracle_full_sweep_all_60_tasks(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "full"
-    _invoke(
+    cli.invoke(
         "run",
         "--model",
         "oracle",
@@ -146,17 +118,17 @@ def test_oracle_full_sweep_all_60_tasks(tmp_path: Path) -> None:
     assert overall.n == len(all_tasks()) * 2 * 2 == 240
 
 
-def test_mismatched_config_and_second_writer_are_refused(tmp_path: Path) -> None:
+def test_mismatched_config_and_second_writer_are_refused(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    _invoke(*_run_args(out, "oracle", FEW[:1], seeds="0"))
-    refused = _cli(*_run_args(out, "oracle", FEW[:1], seeds="0-1"), "--max-new-tokens", "64")
+    cli.invoke(*_run_args(out, "oracle", FEW[:1], seeds="0"))
+    refused = cli.run(*_run_args(out, "oracle", FEW[:1], seeds="0-1"), "--max-new-tokens", "64")
     assert refused.returncode == 2
     lines = refused.stderr.strip().splitlines()
     assert len(lines) == 1 and "different configuration" in lines[0], refused.stderr
     assert "seeds" in lines[0] and "generation.max_new_tokens" in lines[0]
     lock = FileLock(str(out / ".lock"), timeout=0)
     with lock:
-        locked = _cli(*_run_args(out, "oracle", FEW[:1], seeds="0"))
+        locked = cli.run(*_run_args(out, "oracle", FEW[:1], seeds="0"))
     assert locked.returncode == 2
     assert locked.stderr.strip().startswith("error: ") and "another vlm-bench process" in (
         locked.stderr
@@ -165,18 +137,18 @@ def test_mismatched_config_and_second_writer_are_refused(tmp_path: Path) -> None
     assert len(latest_records(out / "records.jsonl")) == 2
 
 
-def test_rescore_command_rewrites_records_and_summary(tmp_path: Path) -> None:
+def test_rescore_command_rewrites_records_and_summary(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    _invoke(*_run_args(out, "oracle", FEW[:2], seeds="0"))
+    cli.invoke(*_run_args(out, "oracle", FEW[:2], seeds="0"))
     before = [r.without_timing() for r in latest_records(out / "records.jsonl")]
     (out / "summary.csv").unlink()
-    printed = _invoke("rescore", str(out))
+    printed = cli.invoke("rescore", str(out))
     assert "0 record(s) changed" in printed
     assert [r.without_timing() for r in latest_records(out / "records.jsonl")] == before
     assert (pd.read_csv(out / "summary.csv")[METRICS] == 100.0).all().all()
 
 
-def test_score_command_json(tmp_path: Path) -> None:
+def test_score_command_json(cli: Cli, tmp_path: Path) -> None:
     episode = make_episode("standard_pick_place", 1)
     gt = plan_to_json(episode.gt_plan)
     first_move = next(i for i, s in enumerate(episode.gt_plan) if isinstance(s, UavStep))
@@ -189,7 +161,7 @@ def test_score_command_json(tmp_path: Path) -> None:
     output = tmp_path / "out.txt"
     output.write_text("Sure! Here is the plan:\n```json\n" + json.dumps(predicted) + "\n```\n")
     data = json.loads(
-        _invoke(
+        cli.invoke(
             "score",
             "standard_pick_place",
             "--seed",
@@ -213,22 +185,22 @@ def test_score_command_json(tmp_path: Path) -> None:
     assert scores["s_plan"] == scores["s_obj"] == scores["s_skill"] == 100.0
     assert scores["succ"] is False and "wrong_direction" in data["error_tags"]
     assert data["plan"] == predicted
-    text = _invoke("score", "standard_pick_place", "--seed", "1", "--output", str(output))
+    text = cli.invoke("score", "standard_pick_place", "--seed", "1", "--output", str(output))
     assert "wrong_direction" in text and "repaired" in text
 
 
-def test_score_command_user_errors_are_one_line(tmp_path: Path) -> None:
-    missing = _cli("score", "standard_pick_place", "--output", str(tmp_path / "nope.txt"))
+def test_score_command_user_errors_are_one_line(cli: Cli, tmp_path: Path) -> None:
+    missing = cli.run("score", "standard_pick_place", "--output", str(tmp_path / "nope.txt"))
     assert missing.returncode == 2 and missing.stderr.count("\n") == 1
     assert "cannot read" in missing.stderr
-    bad_task = _cli("score", "no_such_task", "--output", str(ROOT / "pyproject.toml"))
+    bad_task = cli.run("score", "no_such_task", "--output", str(ROOT / "pyproject.toml"))
     assert bad_task.returncode == 2 and "unknown task 'no_such_task'" in bad_task.stderr
 
 
-def test_run_option_errors_are_one_line(tmp_path: Path) -> None:
-    bad = _cli("run", "--model", "oracle", "--views", "uav,top", "--out", str(tmp_path / "x"))
+def test_run_option_errors_are_one_line(cli: Cli, tmp_path: Path) -> None:
+    bad = cli.run("run", "--model", "oracle", "--views", "uav,top", "--out", str(tmp_path / "x"))
     assert bad.returncode == 2 and "unknown camera view 'top'" in bad.stderr
-    both = _cli(
+    both = cli.run(
         "run",
         "--model",
         "oracle",
