@@ -1,43 +1,32 @@
 """vlm-bench: evaluate vision-language models as planners for aerial manipulation.
 
-The public API (``vlm_bench.run``, ``vlm_bench.rescore``, ...) is loaded lazily so that importing
-the package stays light (no torch, mujoco or pandas).
+The public API (``vlm_bench.run``, ``vlm_bench.rescore``, ...) is :mod:`vlm_bench.api`, whose
+``__all__`` lists it; it is loaded lazily so that importing the package stays light (no torch,
+mujoco or pandas).
 """
 
 from __future__ import annotations
 
+from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from vlm_bench.api import (
-        RunConfig,
-        RunResult,
-        load_run,
-        replay,
-        rescore,
-        run,
-        run_dir_for,
-        score_output,
-    )
+    from vlm_bench.api import *  # noqa: F403
+    from vlm_bench.api import __all__ as __all__
 
 __version__ = "0.1.0"
-__all__ = [
-    "RunConfig",
-    "RunResult",
-    "load_run",
-    "replay",
-    "rescore",
-    "run",
-    "run_dir_for",
-    "score_output",
-]
-_API = frozenset(__all__)
 
 
 def __getattr__(name: str) -> Any:
-    """Lazy access to the public API without importing it at package import."""
-    if name in _API:
-        from vlm_bench import api
-
+    """Lazy access to the public API (and its ``__all__``) without importing it at package
+    import."""
+    if name.startswith("__") and name != "__all__":  # __wrapped__, __spec__ …: not the API
+        raise AttributeError(f"module 'vlm_bench' has no attribute {name!r}")
+    api = import_module("vlm_bench.api")  # not ``from vlm_bench import``: that calls back here
+    if name == "__all__" or name in api.__all__:
         return getattr(api, name)
     raise AttributeError(f"module 'vlm_bench' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *import_module("vlm_bench.api").__all__})
