@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.execution import ReplayOptions
-from vlm_bench.types.records import EpisodeRecord
+from vlm_bench.types.records import EpisodeRecord, OutputScore
 from vlm_bench.types.run import RunConfig, RunManifest, run_config
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import InstructionVariant
@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped, unused-ignore]
 
     from vlm_bench.backends import Backend
+    from vlm_bench.runner import PipelineStats
     from vlm_bench.runner.replay import Replay
 
 __all__ = [
@@ -54,9 +55,8 @@ class RunResult:
     """The latest record of every episode, in run order."""
     summary: pd.DataFrame
     """Long summary: model × instruction × suite (+ overall, both) rows; see report.summary."""
-    stats: dict[str, int]
-    """Counts of this call: total, skipped, scored, errors, cached, generate_calls, executed,
-    exec_crashes (executions that raised; recorded as failures), changed (rescore)."""
+    stats: PipelineStats
+    """Counts of this call (a rescore fills total, executed and changed; a load, total)."""
 
     @property
     def run_id(self) -> str:
@@ -144,18 +144,7 @@ def run(
         replay=replay,
     )
     summary = write_summary(outcome.run_dir)
-    s = outcome.stats
-    stats = {
-        "total": s.total,
-        "skipped": s.skipped,
-        "scored": s.scored,
-        "errors": s.errors,
-        "cached": s.cached,
-        "generate_calls": s.generate_calls,
-        "executed": s.executed,
-        "exec_crashes": s.exec_crashes,
-    }
-    return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, stats)
+    return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, outcome.stats)
 
 
 def rescore(
@@ -168,29 +157,28 @@ def rescore(
     in its order) and the summary files.
     """
     from vlm_bench.report import write_summary
-    from vlm_bench.runner import rescore_run
+    from vlm_bench.runner import PipelineStats, rescore_run
 
     outcome = rescore_run(Path(run_dir), progress=progress, replay=replay)
     summary = write_summary(outcome.run_dir)
-    stats = {
-        "total": len(outcome.records),
-        "changed": outcome.changed,
-        "generate_calls": 0,
-        "executed": outcome.executed,
-    }
+    stats = PipelineStats(
+        total=len(outcome.records), executed=outcome.executed, changed=outcome.changed
+    )
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, stats)
 
 
 def load_run(run_dir: Path | str) -> RunResult:
     """Read a run folder (manifest, latest records, summary) without writing anything."""
     from vlm_bench.report import records_frame, summary_long
+    from vlm_bench.runner import PipelineStats
     from vlm_bench.storage import RunPaths, latest_records, read_manifest
 
     paths = RunPaths(Path(run_dir))
     manifest = read_manifest(paths)
     records = tuple(latest_records(paths.records))
     frame = records_frame(records, {manifest.run_id: manifest.config.execute})
-    return RunResult(paths.root, manifest, records, summary_long(frame), {"total": len(records)})
+    stats = PipelineStats(total=len(records))
+    return RunResult(paths.root, manifest, records, summary_long(frame), stats)
 
 
 def replay(
@@ -245,12 +233,12 @@ def score_output(
     text: str,
     instruction: InstructionVariant = "explicit",
     scoring: ScoringConfig | None = None,
-) -> dict[str, Any]:
+) -> OutputScore:
     """Score one raw model output against an episode's GT plan.
 
     Returns:
-        JSON-ready dict with ``task_id, seed, instruction, parse, plan, gt_plan, scores,
-        error_tags``.
+        The parse, the valid predicted steps, the GT plan, the scores and the error tags
+        (``.model_dump(mode="json")`` for JSON).
     """
     from vlm_bench.runner import score_output as _score
 

@@ -189,7 +189,7 @@ def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode() -> 
     ep = make_episode("drawer_interaction", 3)
     gt = plan_to_json(ep.gt_plan)
     blind = json.dumps(plan_to_json(blind_plan(ep.task_id, ep.seed, ep.arm_steps())))
-    floor = score_output(ep.task_id, ep.seed, blind)["scores"]["s_loc"]
+    floor = score_output(ep.task_id, ep.seed, blind).scores.s_loc
     record = EpisodeRecord(
         run_id="r",
         key="k",

@@ -72,7 +72,7 @@ def test_run_records_executions_and_summary_columns(tmp_path: Path) -> None:
     assert hop.execution.n_steps_done == 1 and hop.execution.steps_ok
     assert hop.execution.sim_time_s > 1.0 and not hop.execution.exec_success
     assert refusal.ok and refusal.execution is None  # no plan: not executed
-    assert result.stats["executed"] == 1 and result.stats["exec_crashes"] == 0
+    assert result.stats.executed == 1 and result.stats.exec_crashes == 0
     stored = latest_records(tmp_path / "run" / "records.jsonl")  # in the order replays ended
     assert {r.key: r.execution for r in stored} == {r.key: r.execution for r in result.records}
 
@@ -95,7 +95,7 @@ def test_run_records_executions_and_summary_columns(tmp_path: Path) -> None:
 def test_no_execute_keeps_todays_records_and_columns(tmp_path: Path) -> None:
     result = api.run(_config(execute=False), out=tmp_path / "run", backend=Scripted())
     assert all(r.execution is None for r in result.records)
-    assert result.stats["executed"] == 0
+    assert result.stats.executed == 0
     summary = pd.read_csv(tmp_path / "run" / "summary.csv")
     assert list(summary.columns) == list(SUMMARY_COLUMNS)
     assert "Exec" not in (tmp_path / "run" / "summary.md").read_text()
@@ -110,7 +110,7 @@ def test_resume_refuses_another_uav_noise_or_execute(tmp_path: Path) -> None:
     with pytest.raises(ConfigMismatchError, match=r"differs: execute\)"):
         api.run(_config(execute=False), out=tmp_path / "run", backend=quiet)
     again = api.run(_config(), out=tmp_path / "run", backend=quiet)
-    assert again.stats["skipped"] == 2
+    assert again.stats.skipped == 2
 
 
 def test_an_executor_exception_is_a_recorded_failure(
@@ -126,7 +126,7 @@ def test_an_executor_exception_is_a_recorded_failure(
     assert hop.ok and hop.execution is not None and not hop.execution.exec_success
     assert hop.execution.failure_reason == f"{CRASH_PREFIX} RuntimeError: boom"
     assert hop.execution.failure_code is FailureCode.EXECUTOR_CRASH
-    assert result.stats["exec_crashes"] == 1 and len(result.records) == 2
+    assert result.stats.exec_crashes == 1 and len(result.records) == 2
     assert _row(result.summary, "explicit").exec_success == 0.0
 
 
@@ -142,7 +142,7 @@ def test_rescore_executes_again(tmp_path: Path) -> None:
         damaged.append(json.dumps(row))
     (run_dir / "records.jsonl").write_text("\n".join(damaged) + "\n")
     result = api.rescore(run_dir)
-    assert result.stats["changed"] == 1 and result.stats["executed"] == 1
+    assert result.stats.changed == 1 and result.stats.executed == 1
     assert [r.without_timing() for r in latest_records(run_dir / "records.jsonl")] == before
 
 
@@ -157,7 +157,7 @@ def test_rescore_in_a_pool_keeps_the_records_and_their_order(tmp_path: Path) -> 
     api.run(config, out=tmp_path / "b", backend=both, replay=ReplayOptions(workers=0))
     pooled = api.rescore(tmp_path / "b", replay=ReplayOptions(workers=2))
     assert [r.key for r in latest_records(tmp_path / "b" / "records.jsonl")] == order
-    assert pooled.stats["executed"] == 2 and inline.stats["executed"] == 2
+    assert pooled.stats.executed == 2 and inline.stats.executed == 2
     assert [r.execution for r in pooled.records] != [None] * 4
     drop = {"wall_time_s"}
     assert [r.execution.model_dump(exclude=drop) for r in pooled.records if r.execution] == [

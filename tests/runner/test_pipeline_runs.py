@@ -94,7 +94,7 @@ def test_backend_errors_are_recorded_then_retried_on_resume(tmp_path: Path) -> N
     failing = {"standard_pick_place/1/implicit", "tower_stacking/0/explicit"}
     first = api.run(_config(), out=tmp_path / "run", backend=CountingOracle(fail_ids=failing))
     errors = {r.key for r in first.records if not r.ok}
-    assert errors == failing and first.stats["errors"] == 2
+    assert errors == failing and first.stats.errors == 2
     assert all(
         r.backend_error == "HTTP 500" and r.scores is None for r in first.records if not r.ok
     )
@@ -103,7 +103,7 @@ def test_backend_errors_are_recorded_then_retried_on_resume(tmp_path: Path) -> N
     second_backend = CountingOracle()
     second = api.run(_config(), out=tmp_path / "run", backend=second_backend)
     assert sorted(r.id for c in second_backend.calls for r in c) == sorted(failing)
-    assert all(r.ok for r in second.records) and second.stats["skipped"] == 6
+    assert all(r.ok for r in second.records) and second.stats.skipped == 6
     lines = (tmp_path / "run" / "records.jsonl").read_text().splitlines()
     assert len(lines) == 10  # append-only: the error records stay, the retries follow
 
@@ -141,7 +141,7 @@ def test_response_cache_answers_episodes_whose_records_were_lost(tmp_path: Path)
     (run_dir / "records.jsonl").write_text("".join(lines[:3]))  # responses cached, records lost
     fake = CountingOracle()
     result = api.run(_config(), out=run_dir, backend=fake)
-    assert fake.calls == [] and result.stats["cached"] == 5
+    assert fake.calls == [] and result.stats.cached == 5
     assert _comparable(run_dir) == before
 
 
@@ -159,7 +159,7 @@ def test_rescore_recomputes_without_the_backend(tmp_path: Path) -> None:
         damaged.append(json.dumps(row))
     (run_dir / "records.jsonl").write_text("\n".join(damaged) + "\n")
     result = api.rescore(run_dir)
-    assert len(fake.calls) == calls and result.stats["changed"] == 8
+    assert len(fake.calls) == calls and result.stats.changed == 8
     assert _comparable(run_dir) == before
     csv = (run_dir / "summary.csv").read_text()
     assert "100.0000" in csv and "1.0000" not in csv
@@ -170,7 +170,7 @@ def test_finished_resume_never_builds_the_backend(tmp_path: Path) -> None:
     again = api.run(
         _config(tasks=TASKS[:1], seeds=(0,), backend_args={}), out=tmp_path / "run", backend=None
     )
-    assert again.stats["generate_calls"] == 0 and again.stats["skipped"] == 2
+    assert again.stats.generate_calls == 0 and again.stats.skipped == 2
 
 
 def test_snapshot_cache_is_shared_and_per_view(tmp_path: Path) -> None:

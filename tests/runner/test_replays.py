@@ -107,7 +107,7 @@ def test_a_run_writes_the_same_records_with_0_1_or_2_workers(tmp_path: Path) -> 
             replay=ReplayOptions(workers=workers),
             snapshot_cache=tmp_path / "snapshots",
         )
-        assert result.stats["executed"] == len(FAST)  # both instructions share one replay
+        assert result.stats.executed == len(FAST)  # both instructions share one replay
         by_key = {r.key: r for r in result.records}
         runs[workers] = {
             k: (

@@ -78,13 +78,13 @@ def _print_summary(result: RunResult) -> None:
 
     console.print(summary_rich(result.summary, title=result.run_id, width=console.width))
     stats = result.stats
-    line = f"{result.run_dir}: summary.md, summary.csv, records.jsonl ({stats['total']} episodes"
-    if stats.get("skipped"):
-        line += f", {stats['skipped']} resumed"
-    if stats.get("cached"):
-        line += f", {stats['cached']} from the response cache"
-    if stats.get("executed"):
-        line += f", {stats['executed']} plan(s) executed"
+    line = f"{result.run_dir}: summary.md, summary.csv, records.jsonl ({stats.total} episodes"
+    if stats.skipped:
+        line += f", {stats.skipped} resumed"
+    if stats.cached:
+        line += f", {stats.cached} from the response cache"
+    if stats.executed:
+        line += f", {stats.executed} plan(s) executed"
     console.print(line + ")", highlight=False, soft_wrap=True)
     errors = sum(1 for r in result.records if not r.ok)
     if errors:
@@ -244,7 +244,7 @@ def rescore(
     replay = replay_options(exec_workers, exec_backend, ray_address)
     result = api_rescore(path, progress=progress, replay=replay)
     _print_summary(result)
-    console.print(f"{result.stats['changed']} record(s) changed", highlight=False)
+    console.print(f"{result.stats.changed} record(s) changed", highlight=False)
 
 
 def _score_text(data: dict[str, Any]) -> None:
@@ -279,7 +279,9 @@ def score(
         text = output.read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
         raise ConfigError(f"cannot read {output}: {exc.strerror}") from None
-    data = score_output(task, parse_seed(seed), text, parse_variant(instruction))
+    data = score_output(task, parse_seed(seed), text, parse_variant(instruction)).model_dump(
+        mode="json"
+    )
     if as_json:
         typer.echo(json.dumps(data, indent=1))
     else:

@@ -58,6 +58,8 @@ class PipelineStats:
     """Executions that ended in an executor exception (recorded as failures)."""
     exec_crash_messages: list[str] = field(default_factory=list)
     """The first few executor exception messages."""
+    changed: int = 0
+    """Records whose parse, plan, scores, tags or execution changed (rescore)."""
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from vlm_bench.episodes import make_episode
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
@@ -16,7 +15,7 @@ from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.plan import plan_to_json
-from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.records import CachedResponse, EpisodeRecord, OutputScore
 from vlm_bench.types.run import RunManifest
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import InstructionVariant
@@ -137,22 +136,17 @@ def score_output(
     text: str,
     variant: InstructionVariant = "explicit",
     scoring: ScoringConfig | None = None,
-) -> dict[str, Any]:
-    """Score one raw model output against an episode's GT (the ``score`` command).
-
-    Returns:
-        JSON-ready dict: ``task_id, seed, instruction, parse, plan, gt_plan, scores,
-        error_tags``.
-    """
+) -> OutputScore:
+    """Score one raw model output against an episode's GT (the ``score`` command)."""
     episode = make_episode(task_id, seed)
     ev = evaluate_output(text, episode, scoring or ScoringConfig())
-    return {
-        "task_id": episode.task_id,
-        "seed": episode.seed,
-        "instruction": variant,
-        "parse": ev.parse.model_dump(mode="json"),
-        "plan": ev.plan,
-        "gt_plan": plan_to_json(episode.gt_plan),
-        "scores": ev.scores.model_dump(mode="json"),
-        "error_tags": list(ev.error_tags),
-    }
+    return OutputScore(
+        task_id=episode.task_id,
+        seed=episode.seed,
+        instruction=variant,
+        parse=ev.parse,
+        plan=ev.plan,
+        gt_plan=plan_to_json(episode.gt_plan),
+        scores=ev.scores,
+        error_tags=ev.error_tags,
+    )

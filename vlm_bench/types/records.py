@@ -105,6 +105,23 @@ class EpisodeRecord(Tolerant):
         return data
 
 
+class OutputScore(BaseModel):
+    """One raw model output scored against an episode's GT plan (:func:`vlm_bench.score_output`)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    task_id: str = Field(description="Task id.")
+    seed: int = Field(ge=0, description="Episode seed.")
+    instruction: InstructionVariant = Field(description="Instruction variant the output answers.")
+    parse: ParseResult = Field(description="What the parser made of the output.")
+    plan: list[dict[str, Any]] = Field(description="The valid predicted steps, paper format.")
+    gt_plan: list[dict[str, Any]] = Field(description="The episode's GT plan, paper format.")
+    scores: PlanScores = Field(description="Planning scores against the GT plan.")
+    error_tags: tuple[str, ...] = Field(
+        description="Parser codes, then planning error types (duplicates removed)."
+    )
+
+
 class CachedResponse(Tolerant):
     """One line of ``responses.jsonl``: a model answer keyed by episode key and prompt hash."""
 
