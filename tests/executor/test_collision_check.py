@@ -1,6 +1,6 @@
-"""The planner's collision check (``ArmIk.collisions``) on its filtered model copy reports
-exactly what a check on the full scene reports, and its cache never answers for a changed
-scene."""
+"""The planner's collision check (``CollisionChecker.collisions``) on its filtered model copy
+reports exactly what a check on the full scene reports, and its cache never answers for a
+changed scene."""
 
 from __future__ import annotations
 
@@ -9,12 +9,19 @@ import numpy as np
 import pytest
 
 from vlm_bench.episodes.generate import make_episode
-from vlm_bench.executor.executor import episode_scene
-from vlm_bench.executor.ik import ArmIk, Carried, robot_only_collisions
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.collision_check import (
+    Carried,
+    CollisionChecker,
+    CollisionQuery,
+    robot_only_collisions,
+)
+from vlm_bench.executor.motion.ik import ArmIk
+from vlm_bench.executor.plan_replay import episode_scene
 from vlm_bench.runner.execution import executor_config
 from vlm_bench.sim import constants as c
-from vlm_bench.sim.objects.base import free_joint_name
 from vlm_bench.sim.objects.bounds import subtree_geoms
+from vlm_bench.sim.objects.builder_kit import free_joint_name
 from vlm_bench.sim.robot import robot_geom_ids
 
 
@@ -24,7 +31,7 @@ def _reference(
     q: np.ndarray,
     ignore: set[int],
     gripper: float | None,
-    base: np.ndarray | None,
+    base: BaseMove | None,
     carried: Carried | None,
     clearance: float,
 ) -> list[int]:
@@ -34,7 +41,10 @@ def _reference(
         model = __import__("copy").copy(ik.model)
         model.geom_margin[:] = np.maximum(model.geom_margin, clearance)
     s = mujoco.MjData(model)
-    ik._pose(s, data, q, base)
+    s.qpos[:] = data.qpos
+    if base is not None:
+        base.apply(s.qpos, model.joint(c.UAV_FREEJOINT).qposadr[0])
+    s.qpos[ik.qadr] = q
     if gripper is not None:
         for name in c.FINGER_JOINTS:
             s.qpos[model.joint(name).qposadr[0]] = gripper
@@ -76,7 +86,7 @@ def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str
     scene = episode_scene(episode, executor_config(episode, 0.0))
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
-    ik = ArmIk(model)
+    ik, checker = ArmIk(model), CollisionChecker(model)
     rng = np.random.default_rng(0)
     joints = {model.joint(j).name for j in range(model.njnt)}
     movable = [o.id for o in episode.objects if free_joint_name(o.id) in joints]
@@ -91,7 +101,7 @@ def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str
     nonempty = 0
     for trial in range(150):
         q = rng.uniform(ik.lo, ik.hi)
-        base = np.array([*rng.uniform(-0.3, 0.3, 2), rng.uniform(-0.6, 0.1)])
+        base = BaseMove(np.array([*rng.uniform(-0.3, 0.3, 2), rng.uniform(-0.6, 0.1)]))
         ignore = set(rng.choice(model.ngeom, 3).tolist()) if trial % 3 == 0 else set()
         args = (
             q,
@@ -102,8 +112,9 @@ def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str
             [0.0, 0.0, 0.03][trial % 3],
         )
         expected = _reference(ik, data, *args)
-        assert ik.collisions(data, *args) == expected
-        assert ik.collisions(data, *args) == expected  # from the cache
+        query = CollisionQuery.of(*args[1:])
+        assert checker.collisions(data, q, query) == expected
+        assert checker.collisions(data, q, query) == expected  # from the cache
         nonempty += bool(expected)
     assert nonempty > 20  # the postures do run into things
 
@@ -113,13 +124,14 @@ def test_cache_follows_the_scene() -> None:
     scene = episode_scene(episode, executor_config(episode, 0.0))
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
-    ik = ArmIk(model)
+    ik, checker = ArmIk(model), CollisionChecker(model)
     q = np.asarray(ik.lo + ik.hi) / 2
-    low = np.array([0.0, 0.0, -5.0])  # the UAV moved into the floor: the robot hits it
-    assert ik.collisions(data, q, set(), None, low)
+    low = BaseMove.vertical(-5.0)  # the UAV moved into the floor: the robot hits it
+    query = CollisionQuery.of(set(), None, low)
+    assert checker.collisions(data, q, query)
     uav = model.joint(c.UAV_FREEJOINT).qposadr[0]
     data.qpos[uav + 2] += 10.0  # the scene changed: the same call must not answer from cache
-    assert ik.collisions(data, q, set(), None, low) == _reference(
+    assert checker.collisions(data, q, query) == _reference(
         ik, data, q, set(), None, low, None, 0.0
     )
 

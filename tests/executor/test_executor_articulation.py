@@ -8,8 +8,8 @@ import pytest
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
-from vlm_bench.executor.articulation import PULL_MIN, TURN_MIN_DEG
-from vlm_bench.executor.loop import SimLoop
+from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.executor.skills.articulation import PULL_MIN, TURN_MIN_DEG
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep

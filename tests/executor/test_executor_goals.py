@@ -10,10 +10,10 @@ import pytest
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.loop import SimLoop
+from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.sim.constants import part_joint
-from vlm_bench.sim.objects.base import free_joint_name
 from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.sim.objects.builder_kit import free_joint_name
 from vlm_bench.sim.scene import Scene, build_scene
 from vlm_bench.types.task import Goal
 

@@ -13,11 +13,12 @@ import pytest
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import ExecutionResult, execute_plan
-from vlm_bench.executor.grasping import Grasper
-from vlm_bench.executor.loop import ArmSkill, SimLoop
+from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.executor.skills.grasping import Grasper
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos, set_arm_targets
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ExecutionSummary, FailureCode
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 TASK = "color_distractor_green"
@@ -46,6 +47,12 @@ def test_wrong_first_direction_leaves_the_object_out_of_reach(episode: Episode) 
     result = _run(episode, [UavStep(direction=Direction.LEFT), pick, place])
     assert result.steps[1].status == "failed"
     assert result.failure_reason == "step 1: green_cube is out of reach"
+    assert result.failure_code is FailureCode.OUT_OF_REACH
+    assert [s.failure_code for s in result.steps] == [
+        None,
+        FailureCode.OUT_OF_REACH,
+        FailureCode.EARLIER_FAILURE,
+    ]
     assert result.goals == (False,) and not result.exec_success
     assert result.scores is not None and result.scores.s_pos < 50.0
 
@@ -63,6 +70,7 @@ def test_hallucinated_object_fails_with_unknown_object(episode: Episode) -> None
     plan = [move, ArmStep(object="purple_unicorn", skill="pick"), place]
     result = _run(episode, plan)
     assert result.failure_reason == "step 1: unknown object 'purple_unicorn'"
+    assert result.failure_code is FailureCode.UNKNOWN_OBJECT
     assert result.steps[1].arm is not None and not result.steps[1].arm.known
     assert result.goals == (False,)
 
@@ -71,6 +79,7 @@ def test_place_before_pick_fails_with_nothing_held(episode: Episode) -> None:
     move, pick, place = episode.gt_plan
     result = _run(episode, [move, place, pick])
     assert result.failure_reason == "step 1: nothing held"
+    assert result.failure_code is FailureCode.NOTHING_HELD
     assert result.goals == (False,)
 
 
@@ -121,3 +130,17 @@ def test_release_mid_air_drops_the_object_and_place_finds_nothing_held(
     assert final_z < max(lifted) - 0.1  # it fell, onto whatever lay below the hand
     assert not result.exec_success  # even where it happens to fall into the basket
     assert np.isfinite(final_z)
+
+
+def test_a_skill_failing_with_bare_text_is_coded_skill_failed(episode: Episode) -> None:
+    """A user's skill may return a plain reason string: it is recorded as given, coded
+    ``skill_failed``, and the code reaches the stored summary."""
+    move, pick, _ = episode.gt_plan
+
+    def skills(loop: SimLoop) -> dict[str, ArmSkill]:
+        return {"pick": lambda _l, _e, _s: "the gripper is on strike"}
+
+    result = execute_plan(episode, [move, pick], arm_skills=skills)
+    assert result.failure_reason == "step 1: the gripper is on strike"
+    assert result.failure_code is FailureCode.SKILL_FAILED
+    assert ExecutionSummary.of(result).failure_code is FailureCode.SKILL_FAILED

@@ -7,15 +7,19 @@ import math
 import numpy as np
 import pytest
 
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes.generate import make_episode
-from vlm_bench.executor import arm as arm_module
-from vlm_bench.executor.arm import MAX_ASSIST, WORK_RADII, Arm
-from vlm_bench.executor.executor import _Run, execute_plan
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Grasper
-from vlm_bench.executor.loop import SimLoop
-from vlm_bench.executor.skills import default_skills
+from vlm_bench.executor.motion import arm_core as arm_core_module
+from vlm_bench.executor.motion.arm_planner import MAX_ASSIST, WORK_RADII
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.collision_check import CollisionQuery
+from vlm_bench.executor.motion.lines import ArmLines
+from vlm_bench.executor.plan_replay import _Run, execute_plan
+from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.executor.skills.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Grasper
+from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.robot import arm_qpos
@@ -53,18 +57,19 @@ def test_planning_checks_the_held_object_too() -> None:
     run = _Run(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the gray cube
         assert run.step(i, step, episode.gt_plan).status == "ok"
-    arm = Arm(loop)
+    arm = Hand(loop)
     tcp, rot = arm.tcp()
     bottom = float(object_bounds(scene.model, scene.data, "gray_cube", solid_only=True)[0][2])
     table = float(object_bounds(scene.model, scene.data, "table", solid_only=True)[1][2])
     # TCP lowered so the cube's bottom sinks 1 cm into the table; the fingertips stay above.
     low = tcp - [0.0, 0.0, bottom - table + 0.01]
-    q, res = arm.ik.solve(scene.data, low, rot, arm_qpos(scene.model, scene.data))
+    q, res = arm.core.ik.solve(scene.data, low, rot, arm_qpos(scene.model, scene.data))
     assert res < 0.02
     table_geoms = arm.body_geoms("table")
     held = arm.body_geoms("gray_cube")
-    bare = arm.ik.collisions(scene.data, q, held, c.GRIPPER_CLOSED)
-    carried = arm.ik.collisions(scene.data, q, held, c.GRIPPER_CLOSED, None, arm.carried())
+    bare = arm.core.collisions(q, CollisionQuery.of(held, c.GRIPPER_CLOSED))
+    query = CollisionQuery.of(held, c.GRIPPER_CLOSED, None, arm.core.carried())
+    carried = arm.core.collisions(q, query)
     assert not table_geoms & set(bare)
     assert table_geoms & set(carried)
 
@@ -75,16 +80,16 @@ def test_an_object_lost_on_the_way_to_the_release_fails_the_place(
     """Physics honesty: a place whose object drops out of the fingers on the way (here the
     gripper is made to open as the hand sets off towards the release) fails as slipped, not
     as a placed object."""
-    from vlm_bench.executor.motion import hold_with_gripper
+    from vlm_bench.executor.motion.joint_moves import hold_with_gripper
 
     episode = make_episode("standard_pick_place", 0)
-    glide = Arm.glide
+    glide = ArmLines.glide
 
-    def loose(arm: Arm, *args: object, **kwargs: object) -> bool:
-        hold_with_gripper(arm.loop, 0.5, c.GRIPPER_OPEN)
-        return glide(arm, *args, **kwargs)  # type: ignore[arg-type]
+    def loose(lines: ArmLines, *args: object, **kwargs: object) -> bool:
+        hold_with_gripper(lines.loop, 0.5, c.GRIPPER_OPEN)
+        return glide(lines, *args, **kwargs)  # type: ignore[arg-type]
 
-    monkeypatch.setattr(Arm, "glide", loose)
+    monkeypatch.setattr(ArmLines, "glide", loose)
     result = execute_plan(episode, episode.gt_plan)
     assert [s.status for s in result.steps] == ["ok", "ok", "failed"]
     assert result.failure_reason == "step 2: gray_cube slipped from the gripper"
@@ -120,10 +125,10 @@ def test_the_raise_after_a_pick_keeps_off_a_whipping_straight_line() -> None:
     run = _Run(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the blue cup
         assert run.step(i, step, episode.gt_plan).status == "ok"
-    arm = Arm(loop)
+    arm = Hand(loop)
     assert loop.held == "blue_cup"
     assert arm.touching_fingers("blue_cup")
-    assert arm.ik.limit_margin(arm_qpos(loop.model, loop.data)) > 0.05
+    assert arm.core.ik.limit_margin(arm_qpos(loop.model, loop.data)) > 0.05
 
 
 def test_a_steady_line_refuses_a_joint_whip() -> None:
@@ -131,17 +136,17 @@ def test_a_steady_line_refuses_a_joint_whip() -> None:
     joint faster than 1 rad/s; nothing moves while it is previewed."""
     import numpy as np
 
-    from vlm_bench.executor.ik import TOP_DOWN_SEED
-    from vlm_bench.executor.motion import joint_move
+    from vlm_bench.executor.motion.ik import TOP_DOWN_SEED
+    from vlm_bench.executor.motion.joint_moves import joint_move
 
     loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
     joint_move(loop, np.asarray(TOP_DOWN_SEED), 2.0, c.GRIPPER_OPEN)
-    arm = Arm(loop)
+    arm = Hand(loop)
     tcp, rot = arm.tcp()
     up = tcp + np.array([0.0, 0.0, 0.1])
     q = arm_qpos(loop.model, loop.data)
-    assert arm.steady_line(tcp, up, rot, 3.0, 1.0, margin=0.0) is not None
-    assert arm.steady_line(tcp, up, rot, 0.1, 1.0, margin=0.0) is None
+    assert arm.lines.steady_line(tcp, up, rot, 3.0, 1.0, margin=0.0) is not None
+    assert arm.lines.steady_line(tcp, up, rot, 0.1, 1.0, margin=0.0) is None
     assert np.array_equal(arm_qpos(loop.model, loop.data), q)
 
 
@@ -156,7 +161,7 @@ def test_a_cleanser_is_held_across_its_nozzle() -> None:
         outcome = run.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert loop.held == "cleanser"
-    assert Arm(loop).touching_fingers("cleanser")
+    assert Hand(loop).touching_fingers("cleanser")
 
 
 def test_a_glide_that_drives_a_joint_onto_its_limit_is_refused() -> None:
@@ -177,13 +182,14 @@ def test_the_stow_keeps_the_wrist_out_of_the_uav() -> None:
     from vlm_bench.sim.robot import robot_geom_ids, set_arm_targets
 
     loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
-    arm = Arm(loop)
+    arm = Hand(loop)
     out = np.array([1.65, -1.75, 2.55, -2.56, -0.61, 1.28, -1.33])  # the arm put there
-    loop.data.qpos[arm.ik.qadr] = out
+    loop.data.qpos[arm.core.ik.qadr] = out
     set_arm_targets(loop.model, loop.data, out, c.GRIPPER_OPEN)
     mujoco.mj_forward(loop.model, loop.data)
     stowed = np.asarray(c.ARM_STOW)
-    assert arm.path_hits(out, stowed, set(), c.GRIPPER_OPEN, np.zeros(3)) > 0
+    query = CollisionQuery.of(set(), c.GRIPPER_OPEN, BaseMove.still())
+    assert arm.core.path_hits(out, stowed, query) > 0
     robot = set(robot_geom_ids(loop.model))
     self_contacts = []
 
@@ -263,17 +269,18 @@ def test_a_grasp_plan_checks_the_line_the_hand_takes() -> None:
     the joint-space blend the plan had checked, and the elbow came down on the table. The
     grasp is now planned on the postures the line commands, and those touch nothing."""
     episode, grasper = _grasper_after_the_flight("variant_teddy_bear", 4)
-    plan = grasper._plan_grasp("teddy_bear", _kind(episode, "teddy_bear"))
+    plan = grasper.picker.plan_grasp("teddy_bear", _kind(episode, "teddy_bear"))
     assert plan is not None
     reach, point = plan
     above = point + np.array([0.0, 0.0, PRE_GRASP])
-    arm = grasper.arm
-    path = arm.line_path(
+    arm = grasper.hand
+    path = arm.lines.line_path(
         reach.q_start, above, point, reach.rotation, reach.q_end, reach.shift, GRASP_DESCENT
     )
     assert path is not None
     ignore = arm.body_geoms("teddy_bear")
-    assert arm.hits_at(path, ignore, c.GRIPPER_OPEN, reach.shift) == 0
+    query = CollisionQuery.of(ignore, c.GRIPPER_OPEN, reach.shift)
+    assert arm.core.hits_at(path, query) == 0
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
 
@@ -287,17 +294,18 @@ def test_a_planned_move_is_checked_densely_along_the_hand(
     that way counts contacts, and the pick planned with such checks succeeds."""
     episode, grasper = _grasper_after_the_flight("color_distractor_green", 2)
     with monkeypatch.context() as patch:
-        patch.setattr(arm_module, "PATH_TRAVEL", 10.0)  # joint-space spacing alone
-        coarse = grasper._plan_grasp("green_cube", _kind(episode, "green_cube"))
+        patch.setattr(arm_core_module, "PATH_TRAVEL", 10.0)  # joint-space spacing alone
+        coarse = grasper.picker.plan_grasp("green_cube", _kind(episode, "green_cube"))
     assert coarse is not None and coarse[0].hits == 0
-    arm, data = grasper.arm, grasper.loop.data
+    core, data = grasper.hand.core, grasper.loop.data
     now = arm_qpos(grasper.loop.model, data)
-    basket = arm.body_geoms("yellow_basket")
-    assert arm.path_hits(now, coarse[0].q_start, set(), c.GRIPPER_OPEN, coarse[0].shift) > 0
+    basket = core.body_geoms("yellow_basket")
+    query = CollisionQuery.of(set(), c.GRIPPER_OPEN, coarse[0].shift)
+    assert core.path_hits(now, coarse[0].q_start, query) > 0
     seen = {
         g
-        for q in arm._joint_samples(now, coarse[0].q_start, coarse[0].shift)
-        for g in arm.ik.collisions(data, q, set(), c.GRIPPER_OPEN, coarse[0].shift)
+        for q in core.joint_samples(now, coarse[0].q_start, coarse[0].shift)
+        for g in core.collisions(q, query)
     }
     assert seen & basket
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
@@ -311,10 +319,11 @@ def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
     may, and the cube is put in the basket."""
     episode = make_episode("multi_object_sorting", 1)
     scene = build_scene(episode)
-    arm = Arm(SimLoop(scene))
+    arm = Hand(SimLoop(scene))
     base = scene.data.body(c.ARM_BASE_BODY).xpos
     point = base + np.array([0.002, 0.002, -0.7])  # 3 mm off right below the base
-    level = [m for m in arm.assists(point) if m[2] == 0.0 and np.hypot(m[0], m[1]) > 0.0]
+    moves = [m.xyz for m in arm.planner.assists(point)]
+    level = [m for m in moves if m[2] == 0.0 and np.hypot(m[0], m[1]) > 0.0]
     assert level, "no horizontal move offered"
     assert max(float(np.linalg.norm(m)) for m in level) == pytest.approx(MAX_ASSIST)
     assert min(float(np.linalg.norm(m)) for m in level) <= WORK_RADII[0]
@@ -329,11 +338,11 @@ def test_a_grasp_keeps_the_base_joint_off_its_limit() -> None:
     joint nearer its limit than GRASP_TURN_ROOM now counts as a contact, and the UAV moves
     for one with room."""
     episode, grasper = _grasper_after_the_flight("variant_tomato_can", 3)
-    plan = grasper._plan_grasp("tomato_can", _kind(episode, "tomato_can"))
+    plan = grasper.picker.plan_grasp("tomato_can", _kind(episode, "tomato_can"))
     assert plan is not None
     reach, _ = plan
     assert reach.hits == 0
-    ik = grasper.arm.ik
+    ik = grasper.hand.core.ik
     for q in (reach.q_start, reach.q_end):
         assert ik.room(q)[0] >= GRASP_TURN_ROOM
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
@@ -379,25 +388,27 @@ def test_a_tall_object_is_centred_over_the_bowl_before_it_is_set_down() -> None:
 
 
 def test_a_planned_uav_turn_swings_the_arm_about_its_base() -> None:
-    """A base move's fourth value turns the UAV's heading (rad): IK and the collision checks
-    see the arm, hung under the UAV's centre, turned about the vertical through its base;
-    :meth:`Arm.shift_base` flies the turn and its undo brings the heading back."""
+    """A base move's yaw turns the UAV's heading (rad): IK and the collision checks see the
+    arm, hung under the UAV's centre, turned about the vertical through its base;
+    :meth:`Hand.shift_base` flies the turn and its undo brings the heading back."""
     episode = make_episode("drawer_interaction", 0)
     loop = SimLoop(build_scene(episode))
-    arm = Arm(loop)
+    arm = Hand(loop)
     data = loop.data
     q = arm_qpos(loop.model, data)
     base = np.array(data.body(c.ARM_BASE_BODY).xpos)
-    tcp = arm.ik.tcp_at(data, q) - base
+    tcp = arm.core.ik.tcp_at(data, q) - base
     for turn in (math.pi / 2, math.pi, -math.pi / 2):
-        turned = arm.ik.tcp_at(data, q, np.array([0.0, 0.0, 0.1, turn])) - base
+        move = BaseMove(np.array([0.0, 0.0, 0.1]), turn)
+        turned = arm.core.ik.tcp_at(data, q, move) - base
         cz, sz = math.cos(turn), math.sin(turn)
         expected = np.array([cz * tcp[0] - sz * tcp[1], sz * tcp[0] + cz * tcp[1], tcp[2] + 0.1])
         np.testing.assert_allclose(turned, expected, atol=1e-9)
     start = loop.uav_yaw_deg()
-    arm.shift_base(np.array([0.0, 0.0, 0.1, math.pi / 2]))
+    up = BaseMove(np.array([0.0, 0.0, 0.1]), math.pi / 2)
+    arm.shift_base(up)
     assert abs(math.remainder(loop.uav_yaw_deg() - start - 90.0, 360.0)) < 1.0
-    arm.shift_base(np.array([0.0, 0.0, -0.1, -math.pi / 2]))
+    arm.shift_base(up.undo())
     assert abs(math.remainder(loop.uav_yaw_deg() - start, 360.0)) < 1.0
 
 

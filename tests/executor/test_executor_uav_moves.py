@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 from vlm_bench.episodes.generate import make_episode
-from vlm_bench.episodes.ground_truth import DRAWER_PULL
-from vlm_bench.executor.executor import execute_plan, next_arm_step, run_move
-from vlm_bench.executor.grasping import grasp_skills
-from vlm_bench.executor.loop import SimLoop
+from vlm_bench.episodes.gt_builder import DRAWER_PULL
+from vlm_bench.executor.motion.uav_moves import move_target
+from vlm_bench.executor.plan_replay import execute_plan, next_arm_step, run_move
 from vlm_bench.executor.references import Reference, StepReferences
-from vlm_bench.executor.uav_move import move_target
+from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.executor.skills.grasping import grasp_skills
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.sim.scene import build_scene
 from vlm_bench.types.geometry import APPROACH

@@ -8,8 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from vlm_bench.catalog.world import object_kind
-from vlm_bench.executor.grasp_points import MAX_ACROSS, MUG_RIM_INSET, RIM_INSET, grasp_points
+from vlm_bench.catalog.world_catalog import object_kind
+from vlm_bench.executor.skills.grasp_points import (
+    MAX_ACROSS,
+    MUG_RIM_INSET,
+    RIM_INSET,
+    grasp_points,
+)
 
 
 def _closing_axes(rotations: tuple[np.ndarray, ...]) -> list[np.ndarray]:
@@ -81,8 +86,8 @@ def test_a_curved_banana_is_held_on_its_middle_not_its_bounding_box() -> None:
     2.3 cm off the middle of the arc; the fingers (1 cm clear each side) must close on the
     middle section: the grasp is centred on the collision geoms between them."""
     from vlm_bench.episodes.generate import make_episode
-    from vlm_bench.executor.grasping import Grasper
-    from vlm_bench.executor.loop import SimLoop
+    from vlm_bench.executor.sim_loop import SimLoop
+    from vlm_bench.executor.skills.grasping import Grasper
     from vlm_bench.sim.objects.bounds import object_bounds
     from vlm_bench.sim.objects.groceries import _banana_axis
     from vlm_bench.sim.scene import build_scene
@@ -95,7 +100,7 @@ def test_a_curved_banana_is_held_on_its_middle_not_its_bounding_box() -> None:
     kind = object_kind("banana")
     lo, hi = object_bounds(scene.model, scene.data, "banana", solid_only=True)
     (cand,) = grasp_points(kind, np.array(body.xpos), math.atan2(rot[1, 0], rot[0, 0]), lo, hi)
-    point = grasper._on_section("banana", cand.point, cand.rotations[0])
+    point = grasper.picker.on_section("banana", cand.point, cand.rotations[0])
     rings = _banana_axis(*kind.size)
     middle_y = rings[len(rings) // 2][0][1]  # the arc's middle, across the banana (body frame)
     assert abs(float((rot.T @ (cand.point - body.xpos))[1]) - middle_y) > 0.015  # the box's

@@ -1,44 +1,53 @@
-"""Skill executor (SPEC §7): replays validated plans in the simulator and checks goals."""
+"""Skill executor (SPEC §7): replays validated plans in the simulator and checks goals.
 
-from vlm_bench.executor.executor import execute_plan, next_arm_step, run_move, target_ids
+The wing is laid out by concept, each layer importing only those before it:
+
+* ``vlm_bench.executor`` (this package): the plan replay (:func:`execute_plan`,
+  ``plan_replay``), the simulation loop (``sim_loop``), goal predicates (``goals``), the GT's
+  reference points read live (``references``), the VLA metrics every replay is scored on
+  (``vla_metrics``: the runner stores them, so they stay below :mod:`vlm_bench.vla`) and video.
+* ``executor.motion``: how the robot moves, independent of any skill: IK, collision queries,
+  base moves, joint moves, UAV flights, straight lines and glides, flight clearance, the stow
+  and the arm planner.
+* ``executor.skills``: the scripted ARM skills, one file per family (pick/place, push,
+  articulation) over a shared hand core, and :func:`default_skills`.
+
+Learned low-level policies and the gymnasium environment live above, in :mod:`vlm_bench.vla`.
+"""
+
 from vlm_bench.executor.goals import check_goal, check_goals
-from vlm_bench.executor.hierarchical import Policy, grasped_object, policy_skills
-from vlm_bench.executor.loop import SimLoop, SimulatorUnstable
+from vlm_bench.executor.plan_replay import execute_plan, next_arm_step, run_move, target_ids
 from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.skills import default_skills
-from vlm_bench.executor.types import (
+from vlm_bench.executor.sim_loop import ArmSkill, SimLoop, SimulatorUnstable
+from vlm_bench.executor.skills.scripted_skills import default_skills
+from vlm_bench.executor.vla_metrics import vla_scores
+from vlm_bench.types.execution import (
     ExecutionResult,
     ExecutorConfig,
+    FailureCode,
     FlightConfig,
+    SkillFailure,
     StepOutcome,
     StepStatus,
 )
-from vlm_bench.executor.vla_action import VlaAction, apply_action
-from vlm_bench.executor.vla_metrics import vla_scores
-from vlm_bench.executor.vla_observation import ObservationConfig, Proprioception, VlaObservation
 
 __all__ = [
+    "ArmSkill",
     "ExecutionResult",
     "ExecutorConfig",
+    "FailureCode",
     "FlightConfig",
-    "ObservationConfig",
-    "Policy",
-    "Proprioception",
     "SimLoop",
     "SimulatorUnstable",
+    "SkillFailure",
     "StepOutcome",
     "StepReferences",
     "StepStatus",
-    "VlaAction",
-    "VlaObservation",
-    "apply_action",
     "check_goal",
     "check_goals",
     "default_skills",
     "execute_plan",
-    "grasped_object",
     "next_arm_step",
-    "policy_skills",
     "run_move",
     "target_ids",
     "vla_scores",

@@ -13,15 +13,14 @@ from dataclasses import dataclass
 
 import mujoco
 import numpy as np
-from numpy.typing import NDArray
 
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.sim.objects.bounds import geom_bounds, object_bounds, subtree_geoms
+from vlm_bench.types.base import FloatArray
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.task import Goal
 
-Vec = NDArray[np.float64]
 INSIDE_MAX_CENTRE_DIST = 0.20  # m, official evaluator's upper bound
 NEAR_DIST = 0.15  # m, horizontal, object centre to target footprint
 UPRIGHT_MAX_TILT_DEG = 20.0
@@ -38,7 +37,7 @@ INSIDE_BELOW_RIM = 0.015  # m: ...and its lowest point at least this far below t
 class Box:
     """An object's extent now: bounding-box centre, bottom and top (m, world)."""
 
-    centre: Vec
+    centre: FloatArray
     bottom: float
     top: float
 
@@ -71,7 +70,7 @@ class GoalState:
         ]
         return float(max(tops))
 
-    def in_footprint(self, point: Vec, target: str, margin: float = 0.0) -> bool:
+    def in_footprint(self, point: FloatArray, target: str, margin: float = 0.0) -> bool:
         """Whether ``point`` lies horizontally within ``target``'s footprint (grown by margin)."""
         if target in self.parts:
             lo, hi = object_bounds(self.model, self.data, target, solid_only=True)
@@ -87,7 +86,7 @@ class GoalState:
         return float(self.data.qpos[self.model.joint(part_joint(part)).qposadr[0]])
 
 
-def _horizontal(a: Vec, b: Vec) -> float:
+def _horizontal(a: FloatArray, b: FloatArray) -> float:
     return math.hypot(float(a[0] - b[0]), float(a[1] - b[1]))
 
 

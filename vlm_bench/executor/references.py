@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import mujoco
 
-from vlm_bench.episodes.ground_truth import GroundTruthBuilder, Reference
+from vlm_bench.episodes.gt_builder import GroundTruthBuilder, Reference
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.types.episode import Episode
 

@@ -18,12 +18,12 @@ from numpy.typing import NDArray
 from PIL import Image
 
 from vlm_bench.errors import ConfigError, MissingExtraError
-from vlm_bench.executor.loop import SimLoop
-from vlm_bench.sim import constants as c
+from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.sim.constants import CAM_SIDE, CONTROL_DT
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.sim.scene import Scene
 
-CONTROL_HZ = round(1.0 / c.CONTROL_DT)
+CONTROL_HZ = round(1.0 / CONTROL_DT)
 """Control steps per simulated second (the recorder's clock)."""
 VIDEO_FORMATS = (".mp4", ".gif")
 """File suffixes the recorder writes."""
@@ -145,7 +145,7 @@ class VideoRecorder:
     def __init__(
         self,
         path: Path | str,
-        camera: str = c.CAM_SIDE,
+        camera: str = CAM_SIDE,
         size: int = 480,
         fps: float = 10.0,
         renderer: SnapshotRenderer | None = None,

@@ -13,25 +13,29 @@ from typing import Literal
 
 import numpy as np
 
-from vlm_bench.catalog.world import object_kind
-from vlm_bench.executor.arm import Arm
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.executor.goals import check_goals, describe_goal
-from vlm_bench.executor.loop import ArmSkill, SimLoop, SimulatorUnstable
+from vlm_bench.executor.motion.arm_core import ArmCore
+from vlm_bench.executor.motion.flight_clearance import FlightClearance
+from vlm_bench.executor.motion.uav_moves import fly_to, move_target, stow_arm
 from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.skills import default_skills
-from vlm_bench.executor.types import (
-    ArmTrace,
-    ExecutionResult,
-    ExecutorConfig,
-    StepOutcome,
-)
-from vlm_bench.executor.uav_move import fly_to, move_target, stow_arm
+from vlm_bench.executor.sim_loop import ArmSkill, SimLoop, SimulatorUnstable
+from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.executor.vla_metrics import vla_scores
-from vlm_bench.sim import constants as c
+from vlm_bench.sim.constants import ARM_BASE_BODY
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene, build_scene
 from vlm_bench.sim.uav_control import GustConfig
+from vlm_bench.types.base import FloatArray
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import (
+    ArmTrace,
+    ExecutionResult,
+    ExecutorConfig,
+    FailureCode,
+    SkillFailure,
+    StepOutcome,
+)
 from vlm_bench.types.plan import ArmStep, UavStep
 
 PlanSteps = Sequence[UavStep | ArmStep]
@@ -48,7 +52,7 @@ def run_move(
     refs: StepReferences,
     step: UavStep,
     arm: ArmStep | None,
-    carrier: Arm | None = None,
+    carrier: FlightClearance | None = None,
 ) -> None:
     """Fly ``step``, stopping for ``arm``, the next ARM step, if any. The arm is stowed first
     unless it holds something: folding a held object up against the arm knocks it out of the
@@ -100,6 +104,13 @@ def _agent(step: UavStep | ArmStep) -> Literal["UAV", "ARM"]:
     return "UAV" if isinstance(step, UavStep) else "ARM"
 
 
+def _as_failure(result: SkillFailure | str | None) -> SkillFailure | None:
+    """A skill's result as a typed failure (a bare string: :attr:`FailureCode.SKILL_FAILED`)."""
+    if result is None or isinstance(result, SkillFailure):
+        return result
+    return SkillFailure(FailureCode.SKILL_FAILED, result)
+
+
 class _Run:
     """One plan replay: the loop, references, skills and the outcomes so far."""
 
@@ -108,30 +119,35 @@ class _Run:
         self.loop = loop
         self.refs = StepReferences(episode, loop.model)
         self.skills = skills
-        self._carrier: Arm | None = None
+        self._carrier: FlightClearance | None = None
 
-    def carrier(self) -> Arm:
+    def carrier(self) -> FlightClearance:
         """The arm's planner for flights with an object in the hand (made when first needed)."""
         if self._carrier is None:
-            self._carrier = Arm(self.loop)
+            self._carrier = FlightClearance(ArmCore(self.loop))
         return self._carrier
 
-    def arm_step(self, step: ArmStep) -> tuple[str | None, ArmTrace]:
+    def arm_step(self, step: ArmStep) -> tuple[SkillFailure | None, ArmTrace]:
         loop = self.loop
         ref = self.refs(loop.data, step.object, step.skill, loop.held)
         if ref is None:
-            return f"unknown object {step.object!r}", ArmTrace(object=step.object, known=False)
+            unknown = SkillFailure(FailureCode.UNKNOWN_OBJECT, f"unknown object {step.object!r}")
+            return unknown, ArmTrace(object=step.object, known=False)
         point = np.array([ref.x, ref.y, ref.z])
-        base = float(np.linalg.norm(loop.data.body(c.ARM_BASE_BODY).xpos - point))
+        base = float(np.linalg.norm(loop.data.body(ARM_BASE_BODY).xpos - point))
         if step.skill == "place" and loop.held is not None:
             loop.watch(point, point)  # the held object's centre vs where it should rest
         else:
             loop.watch(*object_bounds(loop.model, loop.data, step.object, solid_only=True))
         try:
-            if step.skill in self.skills:
-                reason = self.skills[step.skill](loop, self.episode, step)
+            skill = self.skills.get(step.skill)
+            if skill is not None:
+                failure = _as_failure(skill(loop, self.episode, step))
             else:
-                reason = f"skill {step.skill!r} is not available in the executor"
+                failure = SkillFailure(
+                    FailureCode.UNKNOWN_SKILL,
+                    f"skill {step.skill!r} is not available in the executor",
+                )
         finally:
             initial, best, tilt = loop.unwatch()
         attempted = initial is not None and best is not None and best < initial - 0.05
@@ -143,33 +159,63 @@ class _Run:
             tilt_deg=tilt,
             attempted=attempted,
         )
-        return reason, trace
+        return failure, trace
 
     def step(self, index: int, step: UavStep | ArmStep, plan: PlanSteps) -> StepOutcome:
         loop = self.loop
         t0 = loop.time
         loop.take_collisions()
         arm: ArmTrace | None = None
+        failure: SkillFailure | None = None
         try:
             if isinstance(step, UavStep):
                 carrier = self.carrier() if loop.held is not None else None
                 run_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
-                reason = None
             else:
-                reason, arm = self.arm_step(step)
+                failure, arm = self.arm_step(step)
         except SimulatorUnstable as err:
-            reason = str(err)
+            failure = SkillFailure(FailureCode.SIMULATOR_UNSTABLE, str(err))
             if isinstance(step, ArmStep):
                 arm = ArmTrace(object=step.object, known=True)
         return StepOutcome(
             index=index,
             agent=_agent(step),
-            status="ok" if reason is None else "failed",
-            reason=reason,
+            status="ok" if failure is None else "failed",
+            reason=None if failure is None else failure.detail,
+            failure_code=None if failure is None else failure.code,
             duration_s=loop.time - t0,
             collisions=loop.take_collisions(),
             arm=arm,
         )
+
+
+def _replay_steps(run: _Run, plan: PlanSteps) -> tuple[list[StepOutcome], SkillFailure | None]:
+    """Each step's outcome, stopping at the first failure (later steps are skipped), and
+    that failure, its detail prefixed with the step's index."""
+    outcomes: list[StepOutcome] = []
+    failure: SkillFailure | None = None
+    for index, step in enumerate(plan):
+        if failure is not None:
+            skipped = StepOutcome(
+                index=index,
+                agent=_agent(step),
+                status="skipped",
+                reason="earlier failure",
+                failure_code=FailureCode.EARLIER_FAILURE,
+            )
+            outcomes.append(skipped)
+            continue
+        outcome = run.step(index, step, plan)
+        outcomes.append(outcome)
+        if outcome.reason is not None and outcome.failure_code is not None:
+            failure = SkillFailure(outcome.failure_code, f"step {index}: {outcome.reason}")
+    return outcomes, failure
+
+
+def _goal_failure(episode: Episode, goals: tuple[bool, ...]) -> SkillFailure:
+    """The failure naming the goals that do not hold."""
+    missed = [describe_goal(g) for g, ok in zip(episode.goals, goals, strict=True) if not ok]
+    return SkillFailure(FailureCode.GOAL_NOT_MET, "goal not met: " + ", ".join(missed))
 
 
 def execute_plan(
@@ -202,49 +248,49 @@ def execute_plan(
     run = _Run(episode, loop, arm_skills(loop))
     movable = [o.id for o in episode.objects if object_kind(o.kind).movable]
     start = {i: np.array(loop.data.body(i).xpos) for i in movable}
-    outcomes: list[StepOutcome] = []
-    failure: str | None = None
-    collided: set[str] = set()
-    for index, step in enumerate(plan):
-        if failure is not None:
-            outcomes.append(
-                StepOutcome(
-                    index=index, agent=_agent(step), status="skipped", reason="earlier failure"
-                )
-            )
-            continue
-        outcome = run.step(index, step, plan)
-        outcomes.append(outcome)
-        collided.update(outcome.collisions)
-        if outcome.reason is not None:
-            failure = f"step {index}: {outcome.reason}"
+    outcomes, failure = _replay_steps(run, plan)
     try:
         loop.hold(config.settle_s)
     except SimulatorUnstable as err:
-        failure = failure or f"settling: {err}"
+        if failure is None:
+            failure = SkillFailure(FailureCode.SIMULATOR_UNSTABLE, f"settling: {err}")
     goals = check_goals(episode, loop.model, loop.data)
-    steps_ok = all(o.status == "ok" for o in outcomes)
     if failure is None and not all(goals):
-        missed = [describe_goal(g) for g, ok in zip(episode.goals, goals, strict=True) if not ok]
-        failure = "goal not met: " + ", ".join(missed)
+        failure = _goal_failure(episode, goals)
+    return _result(episode, loop, outcomes, goals, failure, start, time.perf_counter() - wall0)
+
+
+def _result(
+    episode: Episode,
+    loop: SimLoop,
+    outcomes: list[StepOutcome],
+    goals: tuple[bool, ...],
+    failure: SkillFailure | None,
+    start: dict[str, FloatArray],
+    wall_s: float,
+) -> ExecutionResult:
+    """The replay's result: outcomes, goals, non-targets' displacement from ``start``, the VLA
+    metrics and the final state."""
+    steps_ok = all(o.status == "ok" for o in outcomes)
     targets = target_ids(episode)
     displacement = {
         i: float(np.linalg.norm(loop.data.body(i).xpos - p))
         for i, p in start.items()
         if i not in targets
     }
-    scores = vla_scores(outcomes, goals, displacement, config.metrics)
+    collided = sorted({name for o in outcomes for name in o.collisions})
     return ExecutionResult(
         steps=tuple(outcomes),
         steps_ok=steps_ok,
         exec_success=steps_ok and all(goals) and failure is None,
         n_steps_done=sum(o.status == "ok" for o in outcomes),
-        failure_reason=failure,
+        failure_reason=None if failure is None else failure.detail,
+        failure_code=None if failure is None else failure.code,
         goals=goals,
         displacement=displacement,
-        uav_collisions=tuple(sorted(collided)),
-        scores=scores,
+        uav_collisions=tuple(collided),
+        scores=vla_scores(outcomes, goals, displacement, loop.config.metrics),
         final_uav_pose=loop.uav_pose(),
         sim_time_s=loop.time,
-        wall_time_s=time.perf_counter() - wall0,
+        wall_time_s=wall_s,
     )

@@ -16,12 +16,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
-from vlm_bench.executor.ik import top_down_rotation
+from vlm_bench.executor.motion.ik import top_down_rotation
+from vlm_bench.types.base import FloatArray
 from vlm_bench.types.world import ObjectKind
 
-Vec = NDArray[np.float64]
 MAX_ACROSS = 0.075  # m: widest span the open fingers close on with some clearance
 SQUARE = 0.6  # narrow/long side ratio above which an object is closed on from either side
 RIM_INSET = 0.007  # m from a bowl's outer radius to the middle of its 1 cm wall
@@ -39,18 +38,18 @@ class GraspPoint:
     fingers close on whatever cross-section of the object lies between them, so the point is
     to be centred on it (a curved banana's middle is not its bounding box's)."""
 
-    point: Vec
-    rotations: tuple[Vec, ...]
+    point: FloatArray
+    rotations: tuple[FloatArray, ...]
     centre_across: bool = False
 
 
-def _headings(base: float, n: int) -> tuple[Vec, ...]:
+def _headings(base: float, n: int) -> tuple[FloatArray, ...]:
     """``n`` headings evenly spread from ``base`` (rad)."""
     return tuple(top_down_rotation(base + k * 2 * math.pi / n) for k in range(n))
 
 
 def _rim(
-    axis: Vec, radius: float, top: float, yaw: float, angles_deg: Iterable[float]
+    axis: FloatArray, radius: float, top: float, yaw: float, angles_deg: Iterable[float]
 ) -> list[GraspPoint]:
     """Rim grasps of a round vessel about the vertical through ``axis`` (x, y), at
     ``angles_deg`` from the object's +x: fingers astride the wall, closing radially."""
@@ -64,7 +63,12 @@ def _rim(
 
 
 def grasp_points(
-    kind: ObjectKind, pos: Vec, yaw: float, lo: Vec, hi: Vec, com: Vec | None = None
+    kind: ObjectKind,
+    pos: FloatArray,
+    yaw: float,
+    lo: FloatArray,
+    hi: FloatArray,
+    com: FloatArray | None = None,
 ) -> list[GraspPoint]:
     """Candidate grasps of an object of ``kind`` whose body is at ``pos`` with heading ``yaw``
     (rad) and whose solid geoms span [lo, hi] now, best first. A long object is held level

@@ -17,18 +17,28 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import NDArray
 
-from vlm_bench.executor.arm import BASE_ASSIST, IK_OK, Arm
-from vlm_bench.executor.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
-from vlm_bench.executor.loop import ArmSkill, SimLoop
-from vlm_bench.executor.motion import hold_with_gripper, joint_move
-from vlm_bench.sim import constants as c
-from vlm_bench.sim.constants import part_handle_site, part_joint
+from vlm_bench.executor.motion.arm_core import IK_OK
+from vlm_bench.executor.motion.arm_planner import BASE_ASSIST
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.collision_check import CollisionQuery
+from vlm_bench.executor.motion.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
+from vlm_bench.executor.motion.joint_moves import hold_with_gripper, joint_move
+from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.sim.constants import (
+    ARM_BASE_BODY,
+    CONTROL_DT,
+    GRIPPER_CLOSED,
+    GRIPPER_OPEN,
+    part_handle_site,
+    part_joint,
+)
+from vlm_bench.types.base import FloatArray
 from vlm_bench.types.episode import Episode, PartRef
+from vlm_bench.types.execution import FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep
 
-Vec = NDArray[np.float64]
 PULL_TO = 0.38  # m: drawer opening a pull aims for (travel 0.40; SPEC ≥ 0.35)
 PULL_MIN = 0.35  # m: a pull counts from this opening
 CLOSED_MAX = 0.02  # m: a close counts below this opening
@@ -45,26 +55,27 @@ BACK_ASSIST = (0.0, 0.1, 0.2)  # m the UAV may back away from a handle before gr
 STROKE_JOINT_SPEED = 1.0  # rad/s: the fastest joint an arm's own slide may need
 
 
-class Articulator:
-    """``pull``, ``close`` and ``rotate`` for one scene."""
+class _PartSkills:
+    """What the skills on articulated parts share: the hand and the parts' joints."""
 
-    def __init__(self, loop: SimLoop, arm: Arm | None = None) -> None:
+    def __init__(self, loop: SimLoop, hand: Hand) -> None:
         self.loop = loop
-        self.arm = arm or Arm(loop)
+        self.hand = hand
 
-    # ---- helpers ------------------------------------------------------------------------
-    def _part(self, episode: Episode, name: str, kind: str) -> PartRef | str:
+    def part(self, episode: Episode, name: str, kind: str) -> PartRef | SkillFailure:
         """The part, or the reason the step cannot act on it."""
         parts = {p.id: p for p in episode.parts}
         if name not in parts:
             if name in episode.object_ids():
-                return f"{name} has no {kind} to act on"
-            return f"unknown object {name!r}"
+                return SkillFailure(FailureCode.WRONG_PART, f"{name} has no {kind} to act on")
+            return SkillFailure(FailureCode.UNKNOWN_OBJECT, f"unknown object {name!r}")
         part = parts[name]
         if part.kind != kind:
-            return f"{name} is a {part.kind}, not a {kind}"
+            return SkillFailure(FailureCode.WRONG_PART, f"{name} is a {part.kind}, not a {kind}")
         if self.loop.held is not None:
-            return f"cannot operate {name} while holding {self.loop.held}"
+            return SkillFailure(
+                FailureCode.BUSY_HAND, f"cannot operate {name} while holding {self.loop.held}"
+            )
         return part
 
     def joint(self, part: str) -> float:
@@ -72,213 +83,247 @@ class Articulator:
         model, data = self.loop.model, self.loop.data
         return float(data.qpos[model.joint(part_joint(part)).qposadr[0]])
 
-    def _handle(self, part: PartRef) -> tuple[Vec, Vec]:
+
+class Drawers(_PartSkills):
+    """``pull`` and ``close`` for one scene."""
+
+    def _handle(self, part: PartRef) -> tuple[FloatArray, FloatArray]:
         """The handle's grasp point and the drawer's outward axis (horizontal, world)."""
         point = np.array(self.loop.data.site(part_handle_site(part.id)).xpos)
-        return point, self.arm.outward_axis(part.parent)
+        return point, self.hand.outward_axis(part.parent)
 
     def _handle_geoms(self, part: PartRef) -> set[int]:
         """The drawer's bar handle and its posts: all the hand may touch of it."""
         model = self.loop.model
-        return {g for g in self.arm.body_geoms(part.id) if "handle" in (model.geom(g).name or "")}
+        return {g for g in self.hand.body_geoms(part.id) if "handle" in (model.geom(g).name or "")}
 
-    def _grasp_handle(self, part: PartRef) -> tuple[Vec, Vec] | str:
+    def _grasp_handle(self, part: PartRef) -> tuple[BaseMove, FloatArray] | SkillFailure:
         """Grasp the drawer's bar handle from the front; the UAV's move and the hand's
         orientation on success, else the reason."""
-        arm, loop = self.arm, self.loop
+        hand, loop = self.hand, self.loop
         point, axis = self._handle(part)
         rotations = [frontal_rotation(axis, up) for up in (True, False)]
-        drawer = arm.body_geoms(part.id)
+        drawer = hand.body_geoms(part.id)
         ignore = self._handle_geoms(part)  # the way in must clear the drawer's front
-        assists = [np.append(axis[:2] * b, dz) for b in BACK_ASSIST for dz in (0.0, -0.1, 0.1)]
-        sol = arm.plan(
+        assists = [
+            BaseMove(np.append(axis[:2] * b, dz)) for b in BACK_ASSIST for dz in (0.0, -0.1, 0.1)
+        ]
+        sol = hand.planner.plan(
             point,
             axis * PRE_HANDLE,
             rotations,
             ignore,
-            c.GRIPPER_OPEN,
+            GRIPPER_OPEN,
             np.asarray(TOP_DOWN_SEED),
             assist=assists,
         )
         if sol is None or (
             sol.hits
-            and arm.ik.collisions(loop.data, sol.q_start, ignore, c.GRIPPER_OPEN, sol.shift)
+            and hand.core.collisions(
+                sol.q_start, CollisionQuery.of(ignore, GRIPPER_OPEN, sol.shift)
+            )
         ):
-            return f"the handle of {part.id} is out of reach"
+            return SkillFailure(
+                FailureCode.OUT_OF_REACH, f"the handle of {part.id} is out of reach"
+            )
         rot, shift = sol.rotation, sol.shift
-        arm.shift_base(shift)
-        joint_move(loop, sol.q_start, 2.5, c.GRIPPER_OPEN)
+        hand.shift_base(shift)
+        joint_move(loop, sol.q_start, 2.5, GRIPPER_OPEN)
         point, axis = self._handle(part)
-        if not arm.line(point + axis * PRE_HANDLE, point, rot, 1.5, c.GRIPPER_OPEN, sol.q_end):
+        if not hand.lines.line(point + axis * PRE_HANDLE, point, rot, 1.5, GRIPPER_OPEN, sol.q_end):
             self._let_go(axis, shift)
-            return f"the handle of {part.id} is out of reach"
-        hold_with_gripper(loop, 0.8, c.GRIPPER_CLOSED)
-        if not arm.touching(drawer):
+            return SkillFailure(
+                FailureCode.OUT_OF_REACH, f"the handle of {part.id} is out of reach"
+            )
+        hold_with_gripper(loop, 0.8, GRIPPER_CLOSED)
+        if not hand.touching(drawer):
             self._let_go(axis, shift)
-            return f"grasp of the handle of {part.id} failed"
+            return SkillFailure(
+                FailureCode.GRASP_FAILED, f"grasp of the handle of {part.id} failed"
+            )
         return shift, rot
 
-    def _slide(self, part: PartRef, rot: Vec, distance: float) -> Vec:
+    def _slide(self, part: PartRef, rot: FloatArray, distance: float) -> FloatArray:
         """Move the grasped handle ``distance`` along the drawer's outward axis (negative:
         inwards): by the arm as far as IK follows, then by the UAV; returns the UAV's move."""
-        arm = self.arm
+        hand = self.hand
         start, axis = self._handle(part)
         end = start + axis * distance
         reach = self._stroke(part, start, axis * distance, rot)
         if reach is not None:
-            arm.line(start, reach, rot, _slide_seconds(reach - start), c.GRIPPER_CLOSED)
-        rest = float(np.dot(end - arm.tcp()[0], axis * math.copysign(1.0, distance)))
+            hand.lines.line(start, reach, rot, _slide_seconds(reach - start), GRIPPER_CLOSED)
+        rest = float(np.dot(end - hand.tcp()[0], axis * math.copysign(1.0, distance)))
         if rest > 0.01:
             step = axis * math.copysign(rest, distance)
-            arm.carry(step, SLIDE_SPEED)
+            hand.carry(step, SLIDE_SPEED)
             return step
         return np.zeros(3)
 
-    def _stroke(self, part: PartRef, start: Vec, travel: Vec, rot: Vec) -> Vec | None:
+    def _stroke(
+        self, part: PartRef, start: FloatArray, travel: FloatArray, rot: FloatArray
+    ) -> FloatArray | None:
         """The end of the longest part of the slide (all, ¾, ½ or ¼ of ``travel``) the arm
         makes on its own: where IK follows the whole line (previewed step by step) with no
         joint faster than :data:`STROKE_JOINT_SPEED`, none within :data:`MIN_MARGIN` of its
         limit, and nothing but the handle touched. Near its limits a long pull whips the base
         joint round and twists the bar out of the fingers, or folds the elbow into the
         drawer's front. ``None``: the UAV carries the whole slide."""
-        arm, data = self.arm, self.loop.data
+        hand = self.hand
         handle = self._handle_geoms(part)
         for frac in STROKE_FRACTIONS:
             end = start + travel * frac
             seconds = _slide_seconds(end - start)
-            postures = arm.steady_line(start, end, rot, seconds, STROKE_JOINT_SPEED)
+            postures = hand.lines.steady_line(start, end, rot, seconds, STROKE_JOINT_SPEED)
             if postures is None:
                 continue
             checked = [*postures[:: max(1, len(postures) // 8)], postures[-1]]
-            zero = np.zeros(3)
-            if any(arm.ik.collisions(data, p, handle, c.GRIPPER_CLOSED, zero) for p in checked):
+            query = CollisionQuery.of(handle, GRIPPER_CLOSED, BaseMove.still())
+            if any(hand.core.collisions(p, query) for p in checked):
                 continue
             return end
         return None
 
-    def _let_go(self, axis: Vec, back: Vec, return_xy: bool = True) -> None:
+    def _let_go(self, axis: FloatArray, back: BaseMove, return_xy: bool = True) -> None:
         """Open, back the hand off along ``axis`` until the stowed arm clears the handle (the
         UAV carries it: the arm is usually folded as far as it goes), stow, and undo the UAV's
         moves (``back`` and the retreat; only their vertical part unless ``return_xy``: flying
         back to where a drawer was pulled from would run the stowed arm into it)."""
-        loop, arm = self.loop, self.arm
-        hold_with_gripper(loop, 0.5, c.GRIPPER_OPEN)
-        base = loop.data.body(c.ARM_BASE_BODY).xpos
-        tcp, _ = arm.tcp()
+        loop, hand = self.loop, self.hand
+        hold_with_gripper(loop, 0.5, GRIPPER_OPEN)
+        base = loop.data.body(ARM_BASE_BODY).xpos
+        tcp, _ = hand.tcp()
         gap = float(np.dot(base[:2] - tcp[:2], axis[:2]))
         retreat = axis * max(RETREAT, CLEAR_OF_HANDLE - gap)
-        arm.carry(retreat, SLIDE_SPEED)
-        undo = -(back + retreat + arm.stow())
-        arm.shift_base(undo if return_xy else np.array([0.0, 0.0, undo[2]]))
+        hand.carry(retreat, SLIDE_SPEED)
+        undo = -(back.xyz + retreat + hand.stow())
+        hand.shift_base(
+            BaseMove(undo, -back.yaw) if return_xy else BaseMove.vertical(float(undo[2]))
+        )
 
-    def _move_drawer(self, episode: Episode, step: ArmStep, opening: float) -> str | None:
+    def _move_drawer(self, episode: Episode, step: ArmStep, opening: float) -> SkillFailure | None:
         """Grasp the drawer's handle, slide it to ``opening`` (m) and let go."""
-        part = self._part(episode, step.object, "drawer")
-        if isinstance(part, str):
+        part = self.part(episode, step.object, "drawer")
+        if isinstance(part, SkillFailure):
             return part
         grasp = self._grasp_handle(part)
-        if isinstance(grasp, str):
+        if isinstance(grasp, SkillFailure):
             return grasp
         shift, rot = grasp
         _, axis = self._handle(part)
         carried = self._slide(part, rot, opening - self.joint(part.id))
-        self._let_go(axis, shift + carried, return_xy=opening < self.joint(part.id))
+        self._let_go(axis, shift.plus(carried), return_xy=opening < self.joint(part.id))
         return None
 
-    # ---- skills -----------------------------------------------------------------------
-    def pull(self, episode: Episode, step: ArmStep) -> str | None:
+    def pull(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
         """Open the drawer ``step.object`` to ``PULL_TO``; ``None`` on success."""
         reason = self._move_drawer(episode, step, PULL_TO)
         if reason is None and self.joint(step.object) < PULL_MIN:
-            return f"{step.object} opened only {self.joint(step.object):.2f} m"
+            return SkillFailure(
+                FailureCode.ARTICULATION_SHORT,
+                f"{step.object} opened only {self.joint(step.object):.2f} m",
+            )
         return reason
 
-    def close(self, episode: Episode, step: ArmStep) -> str | None:
+    def close(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
         """Push the drawer ``step.object`` shut; ``None`` on success."""
         reason = self._move_drawer(episode, step, -0.01)
         if reason is None and self.joint(step.object) > CLOSED_MAX:
-            return f"{step.object} is still {self.joint(step.object):.2f} m open"
+            return SkillFailure(
+                FailureCode.ARTICULATION_SHORT,
+                f"{step.object} is still {self.joint(step.object):.2f} m open",
+            )
         return reason
 
-    def rotate(self, episode: Episode, step: ArmStep) -> str | None:
+
+class Knobs(_PartSkills):
+    """``rotate`` for one scene."""
+
+    def rotate(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
         """Turn the knob ``step.object`` by ``TURN_DEG``; ``None`` on success."""
-        part = self._part(episode, step.object, "knob")
-        if isinstance(part, str):
+        part = self.part(episode, step.object, "knob")
+        if isinstance(part, SkillFailure):
             return part
-        loop, arm = self.loop, self.arm
+        loop, hand = self.loop, self.hand
         site = np.array(loop.data.site(part_handle_site(part.id)).xpos)
         knob_top = float(loop.data.body(part.id).xpos[2]) + 0.045
         grip = np.array([site[0], site[1], knob_top - KNOB_GRIP_DEPTH])
         plan = self._plan_turn(part, grip)
         if plan is None:
-            return f"{part.id} is out of reach"
+            return SkillFailure(FailureCode.OUT_OF_REACH, f"{part.id} is out of reach")
         q_pre, heading, shift = plan
-        ignore = arm.body_geoms(part.id)
-        arm.shift_base(shift)
-        joint_move(loop, q_pre, 2.5, c.GRIPPER_OPEN)
+        ignore = hand.body_geoms(part.id)
+        hand.shift_base(shift)
+        joint_move(loop, q_pre, 2.5, GRIPPER_OPEN)
         rot = top_down_rotation(heading)
         above = grip + np.array([0.0, 0.0, PRE_HANDLE])
-        if not arm.line(above, grip, rot, 1.5, c.GRIPPER_OPEN):
-            arm.shift_base(-shift - arm.stow())
-            return f"{part.id} is out of reach"
-        hold_with_gripper(loop, 1.0, c.GRIPPER_CLOSED)
+        if not hand.lines.line(above, grip, rot, 1.5, GRIPPER_OPEN):
+            hand.shift_base(BaseMove(-shift.xyz - hand.stow(), -shift.yaw))
+            return SkillFailure(FailureCode.OUT_OF_REACH, f"{part.id} is out of reach")
+        hold_with_gripper(loop, 1.0, GRIPPER_CLOSED)
         start = self.joint(part.id)
-        if arm.touching(ignore):
+        if hand.touching(ignore):
             self._turn(grip, heading, math.radians(TURN_DEG))
         turned = math.degrees(self.joint(part.id) - start)
-        hold_with_gripper(loop, 0.5, c.GRIPPER_OPEN)
-        arm.line(grip, above, rot, 1.0, c.GRIPPER_OPEN)
-        arm.shift_base(-shift - arm.stow())
+        hold_with_gripper(loop, 0.5, GRIPPER_OPEN)
+        hand.lines.line(grip, above, rot, 1.0, GRIPPER_OPEN)
+        hand.shift_base(BaseMove(-shift.xyz - hand.stow(), -shift.yaw))
         if turned < TURN_MIN_DEG:
-            return f"{part.id} turned only {turned:.0f}°"
+            return SkillFailure(
+                FailureCode.ARTICULATION_SHORT, f"{part.id} turned only {turned:.0f}°"
+            )
         return None
 
-    def _plan_turn(self, part: PartRef, grip: Vec) -> tuple[Vec, float, Vec] | None:
+    def _plan_turn(
+        self, part: PartRef, grip: FloatArray
+    ) -> tuple[FloatArray, float, BaseMove] | None:
         """Pre-grasp posture, start heading and UAV move from which the hand reaches the grip
         at the start and at the end of the turn, touching nothing but the knob."""
-        arm, data = self.arm, self.loop.data
-        ignore = arm.body_geoms(part.id)
+        hand, data = self.hand, self.loop.data
+        ignore = hand.body_geoms(part.id)
         turn = math.radians(TURN_DEG)
-        best: tuple[float, tuple[Vec, float, Vec]] | None = None
+        best: tuple[float, tuple[FloatArray, float, BaseMove]] | None = None
         for shift in BASE_ASSIST:
             for k in range(8):
                 heading = -math.pi + k * math.pi / 4
                 rot0, rot1 = top_down_rotation(heading), top_down_rotation(heading + turn)
-                q0, res0 = arm.solve_any(grip, rot0, np.asarray(TOP_DOWN_SEED), shift)
-                if res0 > IK_OK or arm.ik.collisions(data, q0, ignore, c.GRIPPER_OPEN, shift):
+                q0, res0 = hand.core.solve_any(grip, rot0, np.asarray(TOP_DOWN_SEED), shift)
+                if res0 > IK_OK or hand.core.collisions(
+                    q0, CollisionQuery.of(ignore, GRIPPER_OPEN, shift)
+                ):
                     continue
-                q1, res1 = arm.ik.solve(data, grip, rot1, q0, base=shift)
+                q1, res1 = hand.core.ik.solve(data, grip, rot1, q0, base=shift)
                 if res1 > IK_OK or abs(float(q1[6] - q0[6])) < 0.8 * turn:
                     continue
                 above = grip + np.array([0.0, 0.0, PRE_HANDLE])
-                q_pre, res = arm.ik.solve(data, above, rot0, q0, base=shift)
+                q_pre, res = hand.core.ik.solve(data, above, rot0, q0, base=shift)
                 if res > IK_OK:
                     continue
-                margin = arm.ik.limit_margin(q1)
+                margin = hand.core.ik.limit_margin(q1)
                 if best is None or margin > best[0]:
                     best = (margin, (q_pre, heading, shift))
             if best is not None:
                 return best[1]
         return None
 
-    def _turn(self, grip: Vec, heading: float, turn: float) -> None:
+    def _turn(self, grip: FloatArray, heading: float, turn: float) -> None:
         """Turn the closed hand about the vertical through ``grip`` by ``turn`` rad."""
-        n = max(2, round(TURN_S / c.CONTROL_DT))
+        n = max(2, round(TURN_S / CONTROL_DT))
         poses = ((grip, top_down_rotation(heading + turn * i / n)) for i in range(1, n + 1))
-        if self.arm.follow(poses, c.GRIPPER_CLOSED):
+        if self.hand.lines.follow(poses, GRIPPER_CLOSED):
             self.loop.hold(0.3)
 
 
-def _slide_seconds(travel: Vec) -> float:
+def _slide_seconds(travel: FloatArray) -> float:
     """Duration (s) of the arm's own slide over ``travel`` (m)."""
     return max(1.5, float(np.linalg.norm(travel)) / SLIDE_SPEED)
 
 
-def articulation_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
+def articulation_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, ArmSkill]:
     """``pull``, ``close`` and ``rotate`` bound to one loop."""
-    art = Articulator(loop, arm)
+    hand = hand or Hand(loop)
+    drawers, knobs = Drawers(loop, hand), Knobs(loop, hand)
     return {
-        "pull": lambda _loop, episode, step: art.pull(episode, step),
-        "close": lambda _loop, episode, step: art.close(episode, step),
-        "rotate": lambda _loop, episode, step: art.rotate(episode, step),
+        "pull": lambda _loop, episode, step: drawers.pull(episode, step),
+        "close": lambda _loop, episode, step: drawers.close(episode, step),
+        "rotate": lambda _loop, episode, step: knobs.rotate(episode, step),
     }

@@ -14,11 +14,11 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
-from vlm_bench.executor.types import ExecutorConfig
-from vlm_bench.sim import constants as c
+from vlm_bench.sim.constants import CONTROL_DT, STEPS_PER_CONTROL, TCP_SITE, UAV_FREEJOINT
 from vlm_bench.sim.robot import robot_geom_ids
 from vlm_bench.sim.scene import Scene
 from vlm_bench.types.episode import Episode, UavPose
+from vlm_bench.types.execution import ExecutorConfig, SkillFailure
 from vlm_bench.types.plan import ArmStep
 
 UNSTABLE = "simulator unstable"
@@ -51,11 +51,11 @@ class SimLoop:
         self._robot_geom = np.zeros(self.model.ngeom, dtype=bool)
         self._robot_geom[robot_geom_ids(self.model)] = True
         self._touched: set[int] = set()
-        uav = self.model.joint(c.UAV_FREEJOINT)
+        uav = self.model.joint(UAV_FREEJOINT)
         self._uav_qpos = int(uav.qposadr[0])
         self._uav_dof = int(uav.dofadr[0])
         self._bad_warnings = self._count_bad_warnings()
-        self._tcp = int(self.model.site(c.TCP_SITE).id)
+        self._tcp = int(self.model.site(TCP_SITE).id)
         self.held: str | None = None
         """The object the gripper holds (set by the grasping skills)."""
         self.observers: list[Callable[[SimLoop], None]] = []
@@ -74,7 +74,7 @@ class SimLoop:
 
     def control_step(self) -> None:
         """Advance one 50 ms control period; raises :class:`SimulatorUnstable` on blow-up."""
-        for _ in range(c.STEPS_PER_CONTROL):
+        for _ in range(STEPS_PER_CONTROL):
             self.physics_step()
         self._check_stable()
         if self._watch is not None:
@@ -84,7 +84,7 @@ class SimLoop:
 
     def hold(self, seconds: float) -> None:
         """Advance ``seconds`` with the current servo targets and UAV setpoint."""
-        for _ in range(max(1, round(seconds / c.CONTROL_DT))):
+        for _ in range(max(1, round(seconds / CONTROL_DT))):
             self.control_step()
 
     # ---- interaction measurements (for S_arm) -------------------------------------------
@@ -186,5 +186,6 @@ class _Watch:
             self.tilt_deg = loop.tcp_tilt_deg()
 
 
-ArmSkill = Callable[[SimLoop, Episode, ArmStep], str | None]
-"""An ARM skill: runs on the loop and returns ``None`` on success or a failure reason."""
+ArmSkill = Callable[[SimLoop, Episode, ArmStep], SkillFailure | str | None]
+"""An ARM skill: runs on the loop and returns ``None`` on success, else its failure (a bare
+string from a user's skill counts as :attr:`FailureCode.SKILL_FAILED`)."""

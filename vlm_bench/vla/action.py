@@ -21,11 +21,11 @@ from numpy.typing import NDArray
 from pydantic import ConfigDict, Field
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.executor.loop import SimLoop
-from vlm_bench.executor.vla_observation import JointAngles, Proprioception
-from vlm_bench.sim import constants as c
+from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.sim.constants import ARM_JOINTS, GRIPPER_CLOSED, GRIPPER_OPEN
 from vlm_bench.sim.robot import set_arm_targets
-from vlm_bench.types.world import Frozen
+from vlm_bench.types.base import Frozen
+from vlm_bench.vla.observation import JointAngles, Proprioception
 
 MAX_UAV_STEP_M = 0.05  # m per control step along each body axis
 MAX_YAW_STEP_RAD = 0.1  # rad per control step
@@ -91,7 +91,7 @@ class VlaAction(Frozen):
     @classmethod
     def holding(cls, proprio: Proprioception, done: bool = False) -> VlaAction:
         """Hold still: no UAV deltas, the current joint angles and gripper opening as targets."""
-        grip = (proprio.gripper - c.GRIPPER_CLOSED) / (c.GRIPPER_OPEN - c.GRIPPER_CLOSED)
+        grip = (proprio.gripper - GRIPPER_CLOSED) / (GRIPPER_OPEN - GRIPPER_CLOSED)
         return cls(joints=proprio.joints, gripper=min(1.0, max(0.0, grip)), done=done)
 
 
@@ -100,7 +100,7 @@ def action_bounds(
     joint_high: Sequence[float] | NDArray[np.float64] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Lower and upper bounds of the array form (joints unbounded unless limits are given)."""
-    n = len(c.ARM_JOINTS)
+    n = len(ARM_JOINTS)
     q_lo = [-math.inf] * n if joint_low is None else [float(x) for x in joint_low]
     q_hi = [math.inf] * n if joint_high is None else [float(x) for x in joint_high]
     lo = [-_M, -_M, -_M, -_YAW, *q_lo, 0.0]
@@ -110,14 +110,14 @@ def action_bounds(
 
 def joint_limits(model: mujoco.MjModel) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Lower and upper limits of the 7 arm joints (rad), read from the model."""
-    ranges = np.array([model.joint(name).range for name in c.ARM_JOINTS], dtype=np.float64)
+    ranges = np.array([model.joint(name).range for name in ARM_JOINTS], dtype=np.float64)
     return ranges[:, 0].copy(), ranges[:, 1].copy()
 
 
 def gripper_command_to_opening(command: float) -> float:
     """Finger opening (m) of a gripper command in [0, 1] (clipped): 1 open, 0 closed."""
     command = min(1.0, max(0.0, float(command)))
-    return c.GRIPPER_CLOSED + command * (c.GRIPPER_OPEN - c.GRIPPER_CLOSED)
+    return GRIPPER_CLOSED + command * (GRIPPER_OPEN - GRIPPER_CLOSED)
 
 
 def command_action(loop: SimLoop, action: VlaAction) -> None:

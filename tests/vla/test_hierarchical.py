@@ -13,32 +13,31 @@ from pydantic import ValidationError
 
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
-from vlm_bench.executor import (
+from vlm_bench.executor import SimLoop, default_skills, execute_plan
+from vlm_bench.executor.plan_replay import next_arm_step, run_move
+from vlm_bench.executor.references import StepReferences
+from vlm_bench.sim import constants as c
+from vlm_bench.sim.robot import arm_qpos, gripper_opening
+from vlm_bench.sim.scene import build_scene
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import FailureCode, SkillFailure
+from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.vla import (
     Proprioception,
-    SimLoop,
     VlaAction,
     VlaObservation,
     apply_action,
-    default_skills,
-    execute_plan,
     grasped_object,
     policy_skills,
 )
-from vlm_bench.executor.executor import next_arm_step, run_move
-from vlm_bench.executor.hierarchical import PolicyOutput
-from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.vla_action import (
+from vlm_bench.vla.action import (
     MAX_UAV_STEP_M,
     MAX_YAW_STEP_RAD,
     gripper_command_to_opening,
     joint_limits,
 )
-from vlm_bench.executor.vla_observation import PROPRIO_SIZE
-from vlm_bench.sim import constants as c
-from vlm_bench.sim.robot import arm_qpos, gripper_opening
-from vlm_bench.sim.scene import build_scene
-from vlm_bench.types.episode import Episode
-from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.vla.hierarchical import PolicyOutput
+from vlm_bench.vla.observation import PROPRIO_SIZE
 
 PICK = ArmStep(object="gray_cube", skill="pick")
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "hierarchical.md"
@@ -62,7 +61,9 @@ def _loop(seed: int = 0) -> tuple[Episode, SimLoop]:
     return episode, SimLoop(build_scene(episode))
 
 
-def _run_step(policy: Recorder, seed: int = 0, max_steps: int = 200) -> tuple[SimLoop, str | None]:
+def _run_step(
+    policy: Recorder, seed: int = 0, max_steps: int = 200
+) -> tuple[SimLoop, SkillFailure | str | None]:
     """Run one policy-driven ARM step without images; returns the loop and the skill's result."""
     episode, loop = _loop(seed)
     skill = policy_skills(policy, max_steps=max_steps, views=())(loop)["pick"]
@@ -152,8 +153,9 @@ def test_yaw_delta_turns_the_uav() -> None:
 def test_a_policy_that_never_finishes_fails_the_step() -> None:
     policy = Recorder(lambda obs: VlaAction.holding(obs.proprio).to_array())  # array form
     loop, reason = _run_step(policy, max_steps=5)
-    assert reason is not None
-    assert "within 5 control steps" in reason
+    assert isinstance(reason, SkillFailure)
+    assert reason.code is FailureCode.POLICY_TIMEOUT
+    assert "within 5 control steps" in reason.detail
     assert len(policy.calls) == 5
     assert loop.time == pytest.approx(5 * c.CONTROL_DT)
 
@@ -204,6 +206,7 @@ def test_execute_plan_flies_uav_moves_and_hands_arm_steps_to_the_policy() -> Non
     assert result.goals == (False,)  # the policy only hovered: the goals judge the outcome
     assert not result.exec_success
     assert result.failure_reason is not None and "goal not met" in result.failure_reason
+    assert result.failure_code is FailureCode.GOAL_NOT_MET
 
 
 def test_an_unhandled_skill_fails_as_unavailable() -> None:
@@ -214,6 +217,7 @@ def test_an_unhandled_skill_fails_as_unavailable() -> None:
     )
     assert result.steps[0].status == "failed"
     assert result.steps[0].reason is not None and "not available" in result.steps[0].reason
+    assert result.steps[0].failure_code is FailureCode.UNKNOWN_SKILL
 
 
 def test_held_object_follows_the_grasp() -> None:

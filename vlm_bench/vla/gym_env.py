@@ -3,7 +3,7 @@
 Each :meth:`~AerialManipulationEnv.step` applies the 12-D :class:`VlaAction` (4 UAV setpoint
 deltas, 7 joint targets, gripper) for one 50 ms control period. The observation is a dict of the
 configured camera images (``(size, size, 3)`` uint8, keyed by camera name) and ``proprio`` (15
-float32 values, :data:`~vlm_bench.executor.vla_observation.PROPRIO_FIELDS`). The reward is the
+float32 values, :data:`~vlm_bench.vla.observation.PROPRIO_FIELDS`). The reward is the
 fraction of the task's goals that hold in the current (not settled) state, in [0, 1]; the
 episode terminates when all hold or the simulator becomes unstable, and is truncated after
 ``max_episode_steps`` steps.
@@ -25,22 +25,22 @@ from pydantic import Field, ValidationError
 
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
-from vlm_bench.executor.executor import episode_scene
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.loop import SimLoop, SimulatorUnstable
-from vlm_bench.executor.types import ExecutorConfig
-from vlm_bench.executor.vla_action import VlaAction, action_bounds, apply_action, joint_limits
-from vlm_bench.executor.vla_observation import (
+from vlm_bench.executor.plan_replay import episode_scene
+from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
+from vlm_bench.sim.constants import CAM_OVERHEAD, CAMERAS
+from vlm_bench.sim.render import SnapshotRenderer
+from vlm_bench.sim.snapshot_render import check_views
+from vlm_bench.types.base import Frozen
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ExecutorConfig
+from vlm_bench.types.task import InstructionVariant
+from vlm_bench.vla.action import VlaAction, action_bounds, apply_action, joint_limits
+from vlm_bench.vla.observation import (
     PROPRIO_SIZE,
     ObservationConfig,
     ObservationRenderer,
 )
-from vlm_bench.sim import constants as c
-from vlm_bench.sim.render import SnapshotRenderer
-from vlm_bench.sim.snapshots import check_views
-from vlm_bench.types.episode import Episode
-from vlm_bench.types.task import InstructionVariant
-from vlm_bench.types.world import Frozen
 
 try:
     import gymnasium as gym
@@ -88,12 +88,12 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
         seed: int = 0,
         variant: InstructionVariant = "explicit",
         render_size: int = DEFAULT_ENV_RENDER_SIZE,
-        views: Sequence[str] = c.CAMERAS,
+        views: Sequence[str] = CAMERAS,
         max_episode_steps: int = DEFAULT_MAX_EPISODE_STEPS,
         config: ExecutorConfig | None = None,
         *,
         render_mode: str | None = "rgb_array",
-        render_camera: str = c.CAM_OVERHEAD,
+        render_camera: str = CAM_OVERHEAD,
         frame_size: int = 256,
         shadows: bool = False,
     ) -> None:

@@ -20,31 +20,31 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-from numpy.typing import NDArray
 
-from vlm_bench.executor.loop import SimLoop
-from vlm_bench.executor.motion import joint_move
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.joint_moves import joint_move
 from vlm_bench.executor.references import Reference
-from vlm_bench.executor.types import FlightConfig
+from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.rules import move_stop
 from vlm_bench.sim.constants import ARM_STOW, CONTROL_DT
 from vlm_bench.sim.robot import arm_qpos, gripper_target, set_arm_targets
+from vlm_bench.types.base import FloatArray
+from vlm_bench.types.execution import FlightConfig
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
 from vlm_bench.types.plan import Direction, UavStep
 
-Vec = NDArray[np.float64]
 STOWED_TOL = 0.02  # rad: the arm counts as stowed when every joint is this close
 TURN_RATE = 0.8  # rad/s the heading setpoint turns at (a half turn in 4 s, an object in hand)
 TURN_TOL = math.radians(1.0)  # heading error that ends a turn
 
 
 def move_target(
-    start: Vec,
+    start: FloatArray,
     base_yaw_deg: float,
     step: UavStep,
     ref: Reference | None,
     geometry: ApproachGeometry = APPROACH,
-) -> Vec:
+) -> FloatArray:
     """End point (m, world) of ``step`` flown from ``start`` (see the module docstring).
 
     Args:
@@ -94,7 +94,7 @@ def stow_arm(loop: SimLoop, flight: FlightConfig) -> None:
     joint_move(loop, goal, flight.stow_s)
 
 
-def fly_to(loop: SimLoop, target: Vec, flight: FlightConfig) -> None:
+def fly_to(loop: SimLoop, target: FloatArray, flight: FlightConfig) -> None:
     """Slide the setpoint from the current one to ``target`` and wait for the UAV to settle."""
     ctrl = loop.controller
     start = np.array(ctrl.setpoint, dtype=np.float64)
@@ -129,6 +129,27 @@ def turn_to(loop: SimLoop, turn: float, flight: FlightConfig) -> None:
         return abs(math.remainder(ctrl.yaw_setpoint - yaw, 2 * math.pi)) < TURN_TOL
 
     _settle(loop, flight, on_heading)
+
+
+def shift_base(loop: SimLoop, move: BaseMove) -> None:
+    """Fly the UAV's setpoint by ``move`` and let it settle, turning its heading at the move's
+    higher end (before a descent, after a climb or level move)."""
+    flight = loop.config.flight
+    if move.yaw and move.turns_first:
+        turn_to(loop, move.yaw, flight)
+    if np.any(move.xyz):
+        fly_to(loop, np.array(loop.controller.setpoint) + move.xyz, flight)
+    if move.yaw and not move.turns_first:
+        turn_to(loop, move.yaw, flight)
+
+
+def carry(loop: SimLoop, delta: FloatArray, speed: float) -> None:
+    """Fly the UAV by ``delta`` (m, world) at ``speed`` with the arm's targets held, so the
+    hand moves with the base (pushing, or pulling a drawer, farther than the arm reaches)."""
+    flight = loop.config.flight
+    slow = flight.model_copy(update={"speed": min(speed, flight.speed), "accel": 0.25})
+    target = np.array(loop.controller.setpoint) + np.asarray(delta)
+    fly_to(loop, target, slow)
 
 
 def _settle(loop: SimLoop, flight: FlightConfig, there: Callable[[], bool]) -> None:

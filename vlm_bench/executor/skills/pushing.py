@@ -14,19 +14,23 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
-from vlm_bench.catalog.world import object_kind
-from vlm_bench.executor.arm import IK_OK, Arm, Reach
-from vlm_bench.executor.ik import TOP_DOWN_SEED, top_down_rotation
-from vlm_bench.executor.loop import ArmSkill, SimLoop
-from vlm_bench.executor.motion import hold_with_gripper, joint_move
-from vlm_bench.sim import constants as c
+from vlm_bench.catalog.world_catalog import object_kind
+from vlm_bench.executor.motion.arm_core import IK_OK
+from vlm_bench.executor.motion.arm_planner import Reach
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.collision_check import CollisionQuery
+from vlm_bench.executor.motion.ik import TOP_DOWN_SEED, top_down_rotation
+from vlm_bench.executor.motion.joint_moves import hold_with_gripper, joint_move
+from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.sim.constants import GRIPPER_CLOSED
 from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.types.base import FloatArray
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep
 
-Vec = NDArray[np.float64]
 PUSH_GAP = 0.03  # m left between the pushed object's leading face and the target's footprint
 BEHIND = 0.035  # m between the object's trailing face and the TCP where the push starts
 ABOVE = 0.10  # m: the hand comes down to the push height from this far above it
@@ -45,13 +49,13 @@ class PushPlan:
     end of the planned way down, hand orientation, the UAV's move before it, the TCP's start
     and end, and the posture at the end."""
 
-    q_pre: Vec
-    q_down: Vec
-    rot: Vec
-    shift: Vec
-    start: Vec
-    end: Vec
-    q_end: Vec | None
+    q_pre: FloatArray
+    q_down: FloatArray
+    rot: FloatArray
+    shift: BaseMove
+    start: FloatArray
+    end: FloatArray
+    q_end: FloatArray | None
     """The posture at the stroke's end (by the arm alone), ``None``: the UAV carries the hand."""
 
 
@@ -59,17 +63,19 @@ class PushPlan:
 class PushPath:
     """A straight push: unit direction (horizontal) and the object's travel (m)."""
 
-    direction: Vec
+    direction: FloatArray
     travel: float
 
 
-def _half_extent(lo: Vec, hi: Vec, direction: Vec) -> float:
+def _half_extent(lo: FloatArray, hi: FloatArray, direction: FloatArray) -> float:
     """Half the box's horizontal extent along ``direction``."""
     half = (hi[:2] - lo[:2]) / 2
     return float(abs(direction[0]) * half[0] + abs(direction[1]) * half[1])
 
 
-def _ray_box_entry(origin: Vec, direction: Vec, lo: Vec, hi: Vec) -> float | None:
+def _ray_box_entry(
+    origin: FloatArray, direction: FloatArray, lo: FloatArray, hi: FloatArray
+) -> float | None:
     """Distance along the horizontal ray to where it enters the box [lo, hi] (x, y), or
     ``None`` if it misses; 0 if it starts inside."""
     t0, t1 = 0.0, math.inf
@@ -87,11 +93,11 @@ def _ray_box_entry(origin: Vec, direction: Vec, lo: Vec, hi: Vec) -> float | Non
 class Pusher:
     """``push`` for one scene."""
 
-    def __init__(self, loop: SimLoop, arm: Arm | None = None) -> None:
+    def __init__(self, loop: SimLoop, hand: Hand | None = None) -> None:
         self.loop = loop
-        self.arm = arm or Arm(loop)
+        self.hand = hand or Hand(loop)
 
-    def _bounds(self, name: str) -> tuple[Vec, Vec]:
+    def _bounds(self, name: str) -> tuple[FloatArray, FloatArray]:
         return object_bounds(self.loop.model, self.loop.data, name, solid_only=True)
 
     def towards(self, obj: str, target: str) -> PushPath:
@@ -141,7 +147,7 @@ class Pusher:
                 return False
         return True
 
-    def _contact_points(self, obj: str, path: PushPath) -> tuple[Vec, Vec]:
+    def _contact_points(self, obj: str, path: PushPath) -> tuple[FloatArray, FloatArray]:
         """TCP positions where the push starts (behind the object) and ends."""
         lo, hi = self._bounds(obj)
         centre = (lo + hi) / 2
@@ -151,35 +157,36 @@ class Pusher:
         end = start + np.append(path.direction * (path.travel + BEHIND - 0.01), 0.0)
         return start, end
 
-    def _assists(self, start: Vec, end: Vec) -> list[Vec]:
+    def _assists(self, start: FloatArray, end: FloatArray) -> list[BaseMove]:
         """UAV moves to try: none, then backing away from the push's midpoint until it lies
         ``WORK_RADIUS`` from the arm base, or back along the push by up to ``MAX_BACK``; then
         the same 6 cm lower."""
-        away = self.arm.back_off((start + end) / 2, WORK_RADIUS, WORK_RADIUS)
+        away = self.hand.planner.back_off((start + end) / 2, WORK_RADIUS, WORK_RADIUS)
         back = -(end - start)[:2] / max(float(np.linalg.norm(end - start)), 1e-9)
         shifts = [np.zeros(3)] if away is None else [np.zeros(3), away]
         shifts += [np.append(back * d, 0.0) for d in (0.1, MAX_BACK)]
-        return shifts + [s + np.array([0.0, 0.0, -0.06]) for s in shifts]
+        lower = [s + np.array([0.0, 0.0, -0.06]) for s in shifts]
+        return [BaseMove(s) for s in (*shifts, *lower)]
 
     def _plan(self, obj: str, path: PushPath) -> PushPlan | None:
         """How to push along ``path``: by the arm where it reaches the whole stroke, else by
         the UAV carrying the arm's start posture along (the first feasible start). The way
-        down to the start must be clear (from the stowed arm, a sweep across the table
-        knocked the cube away before the push began); failing that, the others in turn."""
+        down to the start must be clear (a sweep into the object moves it before the push
+        begins); failing that, the others in turn."""
         start, end = self._contact_points(obj, path)
         heading = math.atan2(path.direction[1], path.direction[0])
         rotations = [top_down_rotation(heading + k * math.pi / 2) for k in range(4)]
-        ignore = self.arm.body_geoms(obj)
+        ignore = self.hand.body_geoms(obj)
         blocked: list[Reach] = []
 
         def clear_ways() -> Iterator[Reach]:  # planned one UAV move at a time, as needed
             for shift in self._assists(start, end):
-                sol = self.arm.plan(
+                sol = self.hand.planner.plan(
                     start,
                     np.array([0.0, 0.0, ABOVE]),
                     rotations,
                     ignore,
-                    c.GRIPPER_CLOSED,
+                    GRIPPER_CLOSED,
                     np.asarray(TOP_DOWN_SEED),
                     assist=(shift,),
                     line=DESCENT,
@@ -201,87 +208,93 @@ class Pusher:
         return None
 
     def _stroke_plan(
-        self, sol: Reach, start: Vec, end: Vec, ignore: set[int]
+        self, sol: Reach, start: FloatArray, end: FloatArray, ignore: set[int]
     ) -> tuple[PushPlan | None, PushPlan | None]:
         """From a planned way down to the push's ``start``: the push by the arm alone where
         IK follows the stroke's line to ``end`` touching nothing but the object, else ``None``
         and the push with the UAV carrying the start posture along, where that start is clear
-        (planned from the end alone, the arm lost the line halfway and the UAV, carrying the
-        rest, slid the hand past the box)."""
-        data, ik, arm, shift = self.loop.data, self.arm.ik, self.arm, sol.shift
+        (the whole line is checked, not its end alone: an arm that loses the line halfway
+        leaves the UAV to carry a hand that is no longer behind the object)."""
+        core, lines, shift = self.hand.core, self.hand.lines, sol.shift
         q_pre, q_down, rot = sol.q_start, sol.q_end, sol.rotation
-        q_end, res = arm.solve_any(end, rot, q_down, shift)
-        if res <= IK_OK and not ik.collisions(data, q_end, ignore, c.GRIPPER_CLOSED, shift):
-            way = arm.line_path(q_down, start, end, rot, q_end, shift, _stroke_seconds(start, end))
-            if way is not None and not arm.hits_at(way, ignore, c.GRIPPER_CLOSED, shift):
+        query = CollisionQuery.of(ignore, GRIPPER_CLOSED, shift)
+        q_end, res = core.solve_any(end, rot, q_down, shift)
+        if res <= IK_OK and not core.collisions(q_end, query):
+            seconds = _stroke_seconds(start, end)
+            way = lines.line_path(q_down, start, end, rot, q_end, shift, seconds)
+            if way is not None and not core.hits_at(way, query):
                 return PushPlan(q_pre, q_down, rot, shift, start, end, way[-1]), None
-        moved = shift + (end - start)
-        if not ik.collisions(data, q_down, ignore, c.GRIPPER_CLOSED, moved):
+        moved = shift.plus(end - start)
+        if not core.collisions(q_down, CollisionQuery.of(ignore, GRIPPER_CLOSED, moved)):
             return None, PushPlan(q_pre, q_down, rot, shift, start, end, None)
         return None, None
 
-    def push(self, episode: Episode, step: ArmStep) -> str | None:
+    def push(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
         """Push ``step.object`` next to ``step.target``, or off its support without one;
         ``None`` on success, else the reason."""
         loop, obj = self.loop, step.object
         kinds = {o.id: o.kind for o in episode.objects}
         if obj not in kinds:
-            return f"unknown object {obj!r}"
+            return SkillFailure(FailureCode.UNKNOWN_OBJECT, f"unknown object {obj!r}")
         if step.target is not None and step.target not in kinds:
-            return f"unknown object {step.target!r}"
+            return SkillFailure(FailureCode.UNKNOWN_OBJECT, f"unknown object {step.target!r}")
         if not object_kind(kinds[obj]).movable:
-            return f"{obj} cannot be pushed"
+            return SkillFailure(FailureCode.NOT_PUSHABLE, f"{obj} cannot be pushed")
         if loop.held is not None:
-            return f"cannot push while holding {loop.held}"
+            return SkillFailure(FailureCode.BUSY_HAND, f"cannot push while holding {loop.held}")
         paths = [self.towards(obj, step.target)] if step.target else self.off_edges(episode, obj)
         if not paths:
-            return f"no clear path to push {obj} off its support"
+            return SkillFailure(
+                FailureCode.PUSH_BLOCKED, f"no clear path to push {obj} off its support"
+            )
         for path in paths:
             if (plan := self._plan(obj, path)) is not None:
                 break
         else:
-            return f"{obj} is out of reach"
+            return SkillFailure(FailureCode.OUT_OF_REACH, f"{obj} is out of reach")
         before = np.array(loop.data.body(obj).xpos)
         ok = self._stroke(plan)
         if not ok:
-            return f"{obj} is out of reach"
+            return SkillFailure(FailureCode.OUT_OF_REACH, f"{obj} is out of reach")
         moved = float(np.dot(loop.data.body(obj).xpos[:2] - before[:2], path.direction))
         if moved < MIN_MOVE * path.travel:
-            return f"{obj} moved {moved:.2f} m of {path.travel:.2f} m"
+            return SkillFailure(
+                FailureCode.PUSH_SHORT, f"{obj} moved {moved:.2f} m of {path.travel:.2f} m"
+            )
         return None
 
     def _stroke(self, plan: PushPlan) -> bool:
         """Run the push, then lift the hand, stow the arm and fly the UAV back; ``False`` where
         the hand could not come down behind the object."""
-        loop, arm = self.loop, self.arm
-        arm.shift_base(plan.shift)
-        joint_move(loop, plan.q_pre, 2.5, c.GRIPPER_CLOSED)
+        loop, hand = self.loop, self.hand
+        hand.shift_base(plan.shift)
+        joint_move(loop, plan.q_pre, 2.5, GRIPPER_CLOSED)
         above = plan.start + np.array([0.0, 0.0, ABOVE])
-        ok = arm.line(above, plan.start, plan.rot, DESCENT, c.GRIPPER_CLOSED, plan.q_down)
+        ok = hand.lines.line(above, plan.start, plan.rot, DESCENT, GRIPPER_CLOSED, plan.q_down)
         stroke = plan.end - plan.start
         unit = stroke / max(float(np.linalg.norm(stroke)), 1e-9)
         back = plan.shift
         if ok:
             if plan.q_end is not None:  # the box may hold the hand back...
                 seconds = _stroke_seconds(plan.start, plan.end)
-                arm.line(plan.start, plan.end, plan.rot, seconds, c.GRIPPER_CLOSED, plan.q_end)
-            rest = float(np.dot(plan.end - arm.tcp()[0], unit))
+                hand.lines.line(plan.start, plan.end, plan.rot, seconds, GRIPPER_CLOSED, plan.q_end)
+            rest = float(np.dot(plan.end - hand.tcp()[0], unit))
             if rest > 0.01:  # ...then the UAV carries the hand the rest of the way
-                arm.carry(unit * rest, SPEED)
-                back = back + unit * rest
-        hold_with_gripper(loop, 0.3, c.GRIPPER_CLOSED)
-        tcp, _ = arm.tcp()
-        arm.line(tcp, tcp - unit * 0.03 + np.array([0.0, 0.0, ABOVE]), plan.rot, 1.0, 0.0)
-        arm.shift_base(-back - arm.stow())
+                hand.carry(unit * rest, SPEED)
+                back = back.plus(unit * rest)
+        hold_with_gripper(loop, 0.3, GRIPPER_CLOSED)
+        tcp, _ = hand.tcp()
+        hand.lines.line(tcp, tcp - unit * 0.03 + np.array([0.0, 0.0, ABOVE]), plan.rot, 1.0, 0.0)
+        hand.shift_base(BaseMove(-back.xyz - hand.stow(), -back.yaw))
         return ok
 
 
-def _stroke_seconds(start: Vec, end: Vec) -> float:
+def _stroke_seconds(start: FloatArray, end: FloatArray) -> float:
     """How long the stroke from ``start`` to ``end`` takes at :data:`SPEED` (at least 1.5 s)."""
     return max(1.5, float(np.linalg.norm(end - start)) / SPEED)
 
 
-def push_skills(loop: SimLoop, arm: Arm | None = None) -> dict[str, ArmSkill]:
+def push_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, ArmSkill]:
     """``push`` bound to one loop."""
-    pusher = Pusher(loop, arm)
+    pusher = Pusher(loop, hand)
     return {"push": lambda _loop, episode, step: pusher.push(episode, step)}

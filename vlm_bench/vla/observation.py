@@ -1,7 +1,7 @@
 """What a low-level (VLA) policy sees: camera images and the robot's proprioception.
 
-The same observation feeds the hierarchical API (:mod:`vlm_bench.executor.hierarchical`) and
-the gymnasium environment (:mod:`vlm_bench.executor.gym_env`); :meth:`VlaObservation.arrays`
+The same observation feeds the hierarchical API (:mod:`vlm_bench.vla.hierarchical`) and
+the gymnasium environment (:mod:`vlm_bench.vla.gym_env`); :meth:`VlaObservation.arrays`
 gives the environment's dict form, so a policy trained on the environment runs in a plan too.
 Rendering dominates the cost on CPU (~25 ms per view without shadows, ~60 ms with, nearly
 independent of the size), so request only the views a policy uses.
@@ -17,13 +17,13 @@ from numpy.typing import NDArray
 from pydantic import Field, field_validator
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.executor.loop import SimLoop
-from vlm_bench.sim import constants as c
+from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.sim.constants import CAMERAS, UAV_FREEJOINT
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.sim.robot import arm_qpos, gripper_opening
-from vlm_bench.sim.snapshots import check_views, render_scene
+from vlm_bench.sim.snapshot_render import check_views, render_scene
+from vlm_bench.types.base import Frozen, Vec3
 from vlm_bench.types.plan import ArmStep
-from vlm_bench.types.world import Frozen, Vec3
 
 JointAngles = tuple[float, float, float, float, float, float, float]
 PROPRIO_FIELDS = (
@@ -40,7 +40,7 @@ class ObservationConfig(Frozen):
     """Which images an observation carries and how they are rendered."""
 
     views: tuple[str, ...] = Field(
-        default=c.CAMERAS, description="Cameras to render (uav, wrist, overhead, side); () = none."
+        default=CAMERAS, description="Cameras to render (uav, wrist, overhead, side); () = none."
     )
     size: int = Field(default=DEFAULT_RENDER_SIZE, ge=1, le=1024, description="Image side (px).")
     shadows: bool = Field(default=False, description="Render shadows (~2.5x slower on CPU).")
@@ -86,7 +86,7 @@ class Proprioception(Frozen):
 def read_proprioception(loop: SimLoop) -> Proprioception:
     """The current proprioception of ``loop``'s robot."""
     pos = loop.uav_position()
-    dof = int(loop.model.joint(c.UAV_FREEJOINT).dofadr[0])
+    dof = int(loop.model.joint(UAV_FREEJOINT).dofadr[0])
     vel = [float(v) for v in loop.data.qvel[dof : dof + 3]]
     q = [float(v) for v in arm_qpos(loop.model, loop.data)]
     return Proprioception(

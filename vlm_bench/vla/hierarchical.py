@@ -22,47 +22,27 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.catalog.skills import arm_skill_names
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.errors import ConfigError
-from vlm_bench.executor.executor import SkillFactory
-from vlm_bench.executor.loop import ArmSkill, SimLoop
-from vlm_bench.executor.vla_action import (
-    ACTION_FIELDS,
-    MAX_UAV_STEP_M,
-    MAX_YAW_STEP_RAD,
-    VlaAction,
-    apply_action,
-)
-from vlm_bench.executor.vla_observation import (
-    DEFAULT_RENDER_SIZE,
-    PROPRIO_FIELDS,
-    ObservationConfig,
-    ObservationRenderer,
-    Proprioception,
-    VlaObservation,
-)
-from vlm_bench.sim import constants as c
+from vlm_bench.executor.plan_replay import SkillFactory
+from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.sim.constants import CAMERAS, CONTROL_DT, LEFT_FINGER_BODY, RIGHT_FINGER_BODY
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep
 from vlm_bench.types.task import InstructionVariant
-
-__all__ = [
-    "ACTION_FIELDS",
-    "DEFAULT_MAX_STEPS",
-    "MAX_UAV_STEP_M",
-    "MAX_YAW_STEP_RAD",
-    "PROPRIO_FIELDS",
-    "ObservationConfig",
-    "Policy",
-    "PolicyOutput",
-    "Proprioception",
-    "VlaAction",
-    "VlaObservation",
-    "grasped_object",
-    "policy_skills",
-]
+from vlm_bench.vla.action import (
+    VlaAction,
+    apply_action,
+)
+from vlm_bench.vla.observation import (
+    DEFAULT_RENDER_SIZE,
+    ObservationConfig,
+    ObservationRenderer,
+    VlaObservation,
+)
 
 PolicyOutput = VlaAction | NDArray[np.floating] | Sequence[float] | None
 DEFAULT_MAX_STEPS = 600  # control steps (30 s) a policy may take for one ARM step
@@ -82,7 +62,7 @@ def grasped_object(loop: SimLoop, episode: Episode) -> str | None:
     model, data = loop.model, loop.data
     fingers = [
         set(subtree_geoms(model, model.body(name).id))
-        for name in (c.LEFT_FINGER_BODY, c.RIGHT_FINGER_BODY)
+        for name in (LEFT_FINGER_BODY, RIGHT_FINGER_BODY)
     ]
     touched: list[set[int]] = [set(), set()]  # geoms each finger touches
     for i in range(data.ncon):
@@ -117,7 +97,7 @@ class _PolicyStep:
         self.observer = observer
         self.variant = variant
 
-    def __call__(self, loop: SimLoop, episode: Episode, step: ArmStep) -> str | None:
+    def __call__(self, loop: SimLoop, episode: Episode, step: ArmStep) -> SkillFailure | None:
         instruction = episode.instruction(self.variant)
         try:
             for k in range(self.max_steps):
@@ -132,10 +112,11 @@ class _PolicyStep:
         finally:
             loop.held = grasped_object(loop, episode)
             self.observer.close()  # frees a private GL context between steps
-        seconds = self.max_steps * c.CONTROL_DT
-        return (
+        seconds = self.max_steps * CONTROL_DT
+        return SkillFailure(
+            FailureCode.POLICY_TIMEOUT,
             f"policy did not finish {step.skill} {step.object} within {self.max_steps} "
-            f"control steps ({seconds:g} s)"
+            f"control steps ({seconds:g} s)",
         )
 
 
@@ -143,14 +124,14 @@ def policy_skills(
     policy: Policy,
     max_steps: int = DEFAULT_MAX_STEPS,
     render_size: int = DEFAULT_RENDER_SIZE,
-    views: Sequence[str] = c.CAMERAS,
+    views: Sequence[str] = CAMERAS,
     *,
     shadows: bool = False,
     variant: InstructionVariant = "explicit",
     skills: Collection[str] | None = None,
     renderer: SnapshotRenderer | None = None,
 ) -> SkillFactory:
-    """ARM skills for :func:`~vlm_bench.executor.executor.execute_plan` driven by ``policy``.
+    """ARM skills for :func:`~vlm_bench.executor.plan_replay.execute_plan` driven by ``policy``.
 
     Args:
         policy: Called every control step of every ARM step.

@@ -19,11 +19,12 @@ pytest.importorskip("gymnasium")
 from gymnasium.utils.env_checker import check_env
 
 from vlm_bench.errors import ConfigError, VlmBenchError
-from vlm_bench.executor import Proprioception, SimulatorUnstable, VlaAction
-from vlm_bench.executor.gym_env import AerialManipulationEnv
-from vlm_bench.executor.vla_action import MAX_UAV_STEP_M
+from vlm_bench.executor import SimulatorUnstable
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.vla import Proprioception, VlaAction
+from vlm_bench.vla.action import MAX_UAV_STEP_M
+from vlm_bench.vla.gym_env import AerialManipulationEnv
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "hierarchical.md"
 CAN_TASK = "cylinder_manipulation"  # goals: on(meat_can, white_plate), upright(meat_can)
@@ -164,8 +165,8 @@ def test_step_before_reset_and_bad_arguments_raise() -> None:
     assert AerialManipulationEnv(views=(), render_mode=None).render() is None
 
 
-def test_importing_the_executor_does_not_import_gymnasium() -> None:
-    code = "import sys, vlm_bench.executor; print('gymnasium' in sys.modules)"
+def test_importing_the_executor_and_vla_does_not_import_gymnasium() -> None:
+    code = "import sys, vlm_bench.executor, vlm_bench.vla; print('gymnasium' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

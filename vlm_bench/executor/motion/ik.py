@@ -1,0 +1,234 @@
+"""Inverse kinematics of the arm's TCP with mink, on a robot-only model.
+
+The solver works on a separate model holding only the aerial manipulator (15 dofs: the UAV's
+free joint, 7 arm joints, 2 fingers): the UAV's dofs are frozen at the scene's current base pose
+(``DofFreezingTask``), so only the arm moves. A top-down target fixes the TCP's z axis to world
+−z and its x axis to a horizontal heading. The hanging arm reaches down "elbow-up"; a low-cost
+posture task pulls solutions towards the seed (by default a known top-down posture).
+
+Collision checks of candidate solutions are :mod:`~vlm_bench.executor.motion.collision_check`'s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mink
+import mujoco
+import numpy as np
+
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.sim.constants import ARM_JOINTS, TCP_SITE, UAV_FREEJOINT
+from vlm_bench.sim.robot import add_aerial_manipulator
+from vlm_bench.types.base import FloatArray
+from vlm_bench.types.episode import UavPose
+
+TOP_DOWN_SEED = (-1.5, -1.76, 1.6, -2.54, -1.44, 1.71, 2.8)  # a known top-down grasp posture
+SEED_POSTURES = (
+    TOP_DOWN_SEED,
+    (-1.01, -1.75, 1.32, -3.03, -1.8, 1.78, 1.68),  # top-down, 0.6 m below and 0.6 m out
+    (2.14, -1.74, 1.32, -3.03, -1.8, 1.77, 0.11),  # the same, reaching to the other side
+)
+"""Postures IK restarts from when the given seed does not converge (from a reach scan)."""
+POS_TOL = 0.004  # m
+ROT_TOL = 0.03  # rad
+DT = 0.1  # s, integration step of mink's velocity solution
+STALL_AFTER = 60
+"""Iterations a solve always gets before it may give up where it stalls."""
+STALL_WINDOW = 30
+STALL_GAIN = 0.05
+"""A solve stalls when its lowest residual fell by less than this fraction in the last
+:data:`STALL_WINDOW` iterations: most iterations go to solves that never converge, and the
+planner's other starts find the rare posture a stalled solve gives up on (measurements:
+``docs/decisions.md``)."""
+
+
+def stalled(best: list[float]) -> bool:
+    """Whether a solve whose lowest residuals so far, per iteration, are ``best`` stalls
+    (see :data:`STALL_GAIN`)."""
+    n = len(best)
+    return n > STALL_AFTER and best[-1] > (1.0 - STALL_GAIN) * best[n - 1 - STALL_WINDOW]
+
+
+def _robot_model() -> mujoco.MjModel:
+    spec = mujoco.MjSpec()
+    add_aerial_manipulator(spec, UavPose(pos=(0.0, 0.0, 1.0), yaw_deg=0.0))
+    return spec.compile()
+
+
+def top_down_rotation(heading_rad: float) -> FloatArray:
+    """TCP orientation pointing down with its x axis along ``heading_rad``."""
+    ch, sh = math.cos(heading_rad), math.sin(heading_rad)
+    return np.array([[ch, sh, 0.0], [sh, -ch, 0.0], [0.0, 0.0, -1.0]])
+
+
+def frontal_rotation(normal: FloatArray, fingers_up: bool = True) -> FloatArray:
+    """TCP orientation approaching a vertical surface with outward ``normal`` (horizontal):
+    the approach axis (z) points into the surface and the fingers close vertically (y axis
+    along world ±z), to grasp a horizontal bar."""
+    n = np.asarray(normal, dtype=np.float64)
+    z = -n / np.linalg.norm(n)
+    y = np.array([0.0, 0.0, 1.0 if fingers_up else -1.0])
+    return np.column_stack([np.cross(y, z), y, z])
+
+
+class ArmIk:
+    """IK solver for one scene's arm.
+
+    Args:
+        model: The scene's compiled model (read for the arm's joint addresses and limits).
+    """
+
+    def __init__(self, model: mujoco.MjModel) -> None:
+        self.model = model
+        self.scratch = mujoco.MjData(model)
+        self._ik_state = b""
+        self._solves: dict[tuple[object, ...], tuple[FloatArray, float]] = {}
+        """Solves for the UAV pose ``_ik_state`` (the planner repeats ~10 % exactly)."""
+        self.qadr = np.array([model.joint(j).qposadr[0] for j in ARM_JOINTS])
+        self.lo = np.array([model.joint(j).range[0] for j in ARM_JOINTS]) + 0.01
+        self.hi = np.array([model.joint(j).range[1] for j in ARM_JOINTS]) - 0.01
+        self.site = int(model.site(TCP_SITE).id)
+        self._uav_qadr = int(model.joint(UAV_FREEJOINT).qposadr[0])
+        # The robot-only model mink solves on.
+        self.robot = _robot_model()
+        self._r_qadr = np.array([self.robot.joint(j).qposadr[0] for j in ARM_JOINTS])
+        self._r_uav = int(self.robot.joint(UAV_FREEJOINT).qposadr[0])
+        self.config = mink.Configuration(self.robot)
+        uav_dofs = self.robot.joint(UAV_FREEJOINT).dofadr[0] + np.arange(6)
+        finger_dofs = [
+            self.robot.joint(j).dofadr[0]
+            for j in range(self.robot.njnt)
+            if self.robot.joint(j).name not in ARM_JOINTS
+            and self.robot.joint(j).name != UAV_FREEJOINT
+        ]
+        self.frame = mink.FrameTask(
+            TCP_SITE, "site", position_cost=1.0, orientation_cost=0.5, lm_damping=1e-3
+        )
+        self.posture = mink.PostureTask(self.robot, cost=1e-3)
+        self.freeze = mink.DofFreezingTask(self.robot, [int(d) for d in [*uav_dofs, *finger_dofs]])
+        self.limits = [mink.ConfigurationLimit(self.robot)]
+
+    def _load(self, data: mujoco.MjData, q: FloatArray, base: BaseMove | None) -> None:
+        """Robot-model configuration: the scene's UAV pose (moved by ``base``) with arm
+        angles ``q``."""
+        qpos = self.config.q.copy()
+        qpos[self._r_uav : self._r_uav + 7] = data.qpos[self._uav_qadr : self._uav_qadr + 7]
+        if base is not None:
+            base.apply(qpos, self._r_uav)
+        qpos[self._r_qadr] = q
+        self.config.update(qpos)
+
+    def solve(
+        self,
+        data: mujoco.MjData,
+        pos: FloatArray,
+        rotation: FloatArray,
+        seed: FloatArray,
+        iterations: int = 200,
+        base: BaseMove | None = None,
+        posture: FloatArray | None = None,
+    ) -> tuple[FloatArray, float]:
+        """Joint angles putting the TCP at ``pos`` with orientation ``rotation`` (3×3, world;
+        see :func:`top_down_rotation`), with the UAV where it is (or moved by ``base``, m, to
+        plan a base adjustment). A weak posture task pulls towards ``posture`` (default: the
+        seed), which picks the branch among the arm's redundant solutions.
+
+        Returns the solution and its residual (position error in m plus rotation error in
+        rad); the caller decides whether it is good enough. A solve of more than
+        :data:`STALL_AFTER` iterations gives up where it stalls (:func:`stalled`). The
+        planner repeats ~10 % of its solves exactly: those are answered from a cache that
+        holds while the UAV does not move.
+        """
+        uav = data.qpos[self._uav_qadr : self._uav_qadr + 7].tobytes()
+        if uav != self._ik_state:
+            self._ik_state = uav
+            self._solves.clear()
+        arrays = (pos, rotation, seed, posture)
+        key = (
+            iterations,
+            *(None if a is None else np.asarray(a, np.float64).tobytes() for a in arrays),
+            None if base is None else base.key(),
+        )
+        hit = self._solves.get(key)
+        if hit is None:
+            hit = self._solve(data, pos, rotation, seed, iterations, base, posture)
+            self._solves[key] = hit
+        return hit[0].copy(), hit[1]
+
+    def _solve(
+        self,
+        data: mujoco.MjData,
+        pos: FloatArray,
+        rotation: FloatArray,
+        seed: FloatArray,
+        iterations: int,
+        base: BaseMove | None,
+        posture: FloatArray | None,
+    ) -> tuple[FloatArray, float]:
+        """:meth:`solve` computed (no cache)."""
+        q0 = np.clip(np.asarray(seed, dtype=np.float64), self.lo, self.hi)
+        self._load(data, q0, base)
+        target = mink.SE3.from_rotation_and_translation(
+            mink.SO3.from_matrix(np.asarray(rotation)), np.asarray(pos)
+        )
+        self.frame.set_target(target)
+        rest = self.config.q.copy()
+        if posture is not None:
+            rest[self._r_qadr] = np.clip(posture, self.lo, self.hi)
+        self.posture.set_target(rest)
+        residual = math.inf
+        best: list[float] = []  # the lowest residual so far, per iteration
+        for _ in range(iterations):
+            err = self.frame.compute_error(self.config)
+            e_pos, e_rot = float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
+            residual = e_pos + e_rot
+            if e_pos < POS_TOL and e_rot < ROT_TOL:
+                break
+            best.append(min(residual, best[-1]) if best else residual)
+            if iterations > STALL_AFTER and stalled(best):
+                break
+            vel = mink.solve_ik(
+                self.config,
+                [self.frame, self.posture],
+                DT,
+                "daqp",
+                damping=1e-3,
+                limits=self.limits,
+                constraints=[self.freeze],
+            )
+            self.config.integrate_inplace(vel, DT)
+        q = np.clip(self.config.q[self._r_qadr], self.lo, self.hi)
+        if not np.array_equal(q, self.config.q[self._r_qadr]):  # the residual of what is returned
+            qpos = self.config.q.copy()
+            qpos[self._r_qadr] = q
+            self.config.update(qpos)
+            err = self.frame.compute_error(self.config)
+            residual = float(np.linalg.norm(err[:3])) + float(np.linalg.norm(err[3:]))
+        return q, residual
+
+    def _pose(
+        self, s: mujoco.MjData, data: mujoco.MjData, q: FloatArray, base: BaseMove | None
+    ) -> None:
+        """Scratch ``s`` set to the scene's state with arm angles ``q`` (UAV moved by
+        ``base``); kinematics not yet run."""
+        s.qpos[:] = data.qpos
+        if base is not None:
+            base.apply(s.qpos, self._uav_qadr)
+        s.qpos[self.qadr] = q
+
+    def tcp_at(
+        self, data: mujoco.MjData, q: FloatArray, base: BaseMove | None = None
+    ) -> FloatArray:
+        """Where the TCP would be with arm angles ``q`` (UAV moved by ``base``), world."""
+        self._pose(self.scratch, data, q, base)
+        mujoco.mj_kinematics(self.model, self.scratch)
+        return np.array(self.scratch.site_xpos[self.site])
+
+    def room(self, q: FloatArray) -> FloatArray:
+        """Each joint's distance in ``q`` from its nearer (inset) limit (rad)."""
+        return np.minimum(q - self.lo, self.hi - q)
+
+    def limit_margin(self, q: FloatArray) -> float:
+        """Smallest distance of ``q`` from the (inset) joint limits (rad)."""
+        return float(np.min(self.room(q)))

@@ -1,0 +1,8 @@
+"""The scripted ARM skills, one file per family over a shared hand core.
+
+``hand`` (the arm and fingers every skill uses on one loop), ``grasp_points`` (where each kind
+is held), ``grasping`` (``pick``, and ``pick``/``place`` bound together), ``placing``
+(``place``), ``release_points`` (where a held object is let go), ``carry_raise`` (the hand
+raised to carrying height), ``pushing`` (``push``), ``articulation`` (``pull``, ``close``,
+``rotate``) and ``scripted_skills`` (:func:`default_skills`, all bound to one loop).
+"""

@@ -1,0 +1,298 @@
+"""Scripted top-down ``place``: carry the held object over its destination, lower it in joint
+space on the path the plan checked, let go, retreat and stow."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vlm_bench.executor.motion.arm_planner import Reach
+from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.ik import top_down_rotation
+from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
+from vlm_bench.executor.skills.carry_raise import CARRY_SPEED, raise_to_carry
+from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.executor.skills.release_points import (
+    can_drop_into,
+    hang,
+    kind_of,
+    release_point,
+    top_of,
+)
+from vlm_bench.sim.constants import ARM_BASE_BODY, GRIPPER_CLOSED, GRIPPER_OPEN
+from vlm_bench.sim.objects.bounds import object_bounds
+from vlm_bench.sim.robot import arm_qpos
+from vlm_bench.types.base import FloatArray
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import FailureCode, SkillFailure
+from vlm_bench.types.plan import ArmStep
+
+PLACE_CLEARANCE = 0.01  # m: a way down to a release keeping this clear of the rest is preferred
+GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
+TALL = 2.0  # height over the narrowest side of the base: such an object is set down, not dropped
+SET_DOWN = 0.04  # m the hand lowers a tall object at most, from its release, to set it down
+SET_DOWN_STEP = 0.005  # m the hand lowers it per 0.1 s until it touches
+CENTRE_TOL = 0.001  # m: a tall object's middle is brought this close over its resting place...
+CENTRE_TRIES = 3  # ...in at most this many sideways moves of the hand, before it is set down
+SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of one
+# finger's touch (an object set down on its destination can be pushed up between the pads)
+RETREAT = 0.12  # m: the open hand rises at least this far after a release
+RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (more than an
+# outstretched arm's sag: farther off, it did not get there)
+DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
+DRAWER_DEPTHS = (1.0, 0.9)  # m: arm base above it (from a reach scan over an open drawer)
+DRAWER_TURNS = (math.pi, math.pi / 2, -math.pi / 2)  # rad: UAV heading turns tried last there
+
+Descent = tuple[FloatArray, FloatArray, FloatArray, BaseMove]
+"""A descent's first and last postures, the hand's orientation and the UAV's move in all."""
+
+
+@dataclass(frozen=True, eq=False)
+class _Drop:
+    """Where one place lets go: the held object, the destination, the release point (TCP),
+    the point above it the descent starts from, the hand's heading now and what the hand
+    may touch (the held object)."""
+
+    held: str
+    dest: str
+    release: FloatArray
+    above: FloatArray
+    heading: float
+    ignore: set[int]
+
+
+class Placer:
+    """``place`` for one scene (what is held lives in ``loop.held``)."""
+
+    def __init__(self, hand: Hand) -> None:
+        self.hand = hand
+        self.loop = hand.loop
+
+    def place(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
+        """Lower the held object onto/into ``step.object`` and release it."""
+        loop, dest, hand = self.loop, step.object, self.hand
+        held = loop.held
+        if held is None:
+            return SkillFailure(FailureCode.NOTHING_HELD, "nothing held")
+        if dest not in episode.object_ids():
+            return SkillFailure(FailureCode.UNKNOWN_OBJECT, f"unknown object {dest!r}")
+        if not hand.touching_fingers(held):
+            loop.held = None
+            return SkillFailure(FailureCode.SLIPPED, f"{held} slipped from the gripper")
+        release = release_point(hand, episode, held, dest)
+        grip = self._in_hand(held)
+        tcp, rot = hand.tcp()
+        clearance = max(0.0, top_of(hand, dest) - (release[2] - hang(hand, held))) + 0.05
+        above = release + np.array([0.0, 0.0, clearance])
+        heading = math.atan2(rot[1, 0], rot[0, 0])
+        lift_to = np.array([tcp[0], tcp[1], max(tcp[2], above[2])])
+        if not hand.lines.line(tcp, lift_to, top_down_rotation(heading), 0.8, GRIPPER_CLOSED):
+            # The arm cannot raise it that far on its own (folded up under the base): the
+            # UAV climbs the rest, carrying it.
+            hand.shift_base(BaseMove.vertical(max(0.0, lift_to[2] - hand.tcp()[0][2])))
+        drop = _Drop(held, dest, release, above, heading, hand.body_geoms(held))
+        planned = self._plan_release(episode, drop)
+        if planned is None:
+            return SkillFailure(FailureCode.OUT_OF_REACH, f"{dest} is out of reach")
+        sol, drop = planned
+        return self._release(episode, sol, drop, grip)
+
+    def _plan_release(self, episode: Episode, drop: _Drop) -> tuple[Reach, _Drop] | None:
+        """The way down to the release, or, where it is not clear (the hand, 0.2 m long,
+        meets a wall or what lies there already) and the object may drop in, to just above
+        the rim, whichever touches less."""
+        loop = self.loop
+        sol = self._plan_top_down(
+            drop.release,
+            drop.above - drop.release,
+            drop.heading,
+            drop.ignore,
+            arm_qpos(loop.model, loop.data),
+            self._drawer_assists(episode, drop.dest, drop.release),
+        )
+        if (sol is None or sol.hits) and can_drop_into(self.hand, episode, drop.held, drop.dest):
+            rim = drop.release.copy()
+            rim[2] = drop.above[2] - 0.03
+            high = self._plan_top_down(
+                rim,
+                drop.above - rim,
+                drop.heading,
+                drop.ignore,
+                arm_qpos(loop.model, loop.data),
+                self._drawer_assists(episode, drop.dest, rim),
+            )
+            if high is not None and (sol is None or high.hits < sol.hits):
+                sol = high
+                drop = _Drop(drop.held, drop.dest, rim, drop.above, drop.heading, drop.ignore)
+        return None if sol is None else (sol, drop)
+
+    def _release(
+        self, episode: Episode, sol: Reach, drop: _Drop, grip: FloatArray
+    ) -> SkillFailure | None:
+        """Fly ``sol``'s UAV move, bring the object over the release, lower it on the path the
+        plan checked (in joint space: a long straight line into a deep drawer can leave IK's
+        branch), let go and retreat; ``grip``: where the object sat in the hand before."""
+        loop, hand, held, release = self.loop, self.hand, drop.held, drop.release
+        hand.shift_base(sol.shift)
+        q_start, q_end, rot, shift = self._bring_over(drop, sol)
+        joint_move(loop, q_start, 2.0, GRIPPER_CLOSED, HELD_JOINT_SPEED)
+        joint_move(loop, q_end, 1.5, GRIPPER_CLOSED, HELD_JOINT_SPEED)
+        hold_with_gripper(loop, 0.3, GRIPPER_CLOSED)
+        moved = float(np.linalg.norm(self._in_hand(held) - grip))
+        if moved > SLIP and not hand.touching_fingers(held):
+            loop.held = None
+            return SkillFailure(FailureCode.SLIPPED, f"{held} slipped from the gripper")
+        if float(np.linalg.norm(hand.tcp()[0] - release)) > RELEASE_TOL:
+            return SkillFailure(FailureCode.OUT_OF_REACH, f"{drop.dest} is out of reach")
+        kind = kind_of(episode, held)
+        if kind is not None and kind.size[2] > TALL * min(kind.size[:2]):
+            self._set_down(held, drop.dest, release, rot)
+        hold_with_gripper(loop, 0.6, GRIPPER_OPEN)
+        loop.held = None
+        retreat = max(RETREAT, float(drop.above[2] - release[2]))  # clear of the rim
+        hand.lines.line(release, release + np.array([0.0, 0.0, retreat]), rot, 1.0, GRIPPER_OPEN)
+        raise_to_carry(hand, rot, GRIPPER_OPEN)
+        undo = shift.undo()  # the UAV's moves (and turn) made for the release, undone
+        hand.shift_base(BaseMove(undo.xyz - hand.stow(), undo.yaw))
+        return None
+
+    def _set_down(self, held: str, dest: str, release: FloatArray, rot: FloatArray) -> None:
+        """Centre ``held`` over ``release`` (:meth:`_centre_over`), then lower the hand until
+        ``held`` touches ``dest``, by at most :data:`SET_DOWN`: a tall object let go above a
+        curved floor rocks and topples, and one lowered by a fixed amount is pushed up in the
+        fingers where it already stands."""
+        hand = self.hand
+        ours, theirs = hand.body_geoms(held), hand.body_geoms(dest)
+        step = np.array([0.0, 0.0, SET_DOWN_STEP])
+        point = self._centre_over(held, release, rot)
+        for _ in range(round(SET_DOWN / SET_DOWN_STEP)):
+            if hand.in_contact(ours, theirs):
+                return
+            if not hand.lines.line(point, point - step, rot, 0.1, GRIPPER_CLOSED):
+                return
+            point = point - step
+
+    def _centre_over(self, held: str, release: FloatArray, rot: FloatArray) -> FloatArray:
+        """Move the hand sideways until ``held``'s middle is within :data:`CENTRE_TOL` over
+        ``release`` (the resting place's centre); the TCP there. An object held off its middle
+        (a bottle by its cap) hangs off the hand's centre, and the TCP stops a few mm off its
+        goal, while a tall object's base may just fit the floor it is set on."""
+        loop, hand = self.loop, self.hand
+        tcp = hand.tcp()[0]
+        for _ in range(CENTRE_TRIES):
+            lo, hi = object_bounds(loop.model, loop.data, held, solid_only=True)
+            off = release[:2] - (lo[:2] + hi[:2]) / 2
+            if float(np.linalg.norm(off)) < CENTRE_TOL:
+                break
+            to = tcp + np.array([off[0], off[1], 0.0])
+            if not hand.lines.line(tcp, to, rot, 0.3, GRIPPER_CLOSED):
+                break
+            hold_with_gripper(loop, 0.2, GRIPPER_CLOSED)  # let it stop swinging
+            tcp = hand.tcp()[0]
+        return tcp
+
+    def _bring_over(self, drop: _Drop, sol: Reach) -> Descent:
+        """Carry the held object to above its release, with the UAV moved by ``sol``'s shift
+        already: the hand glides there pointing down (turning to the plan's heading on the
+        way, or, where the arm would meet itself turning, keeping its own); else the UAV flies
+        it there with the arm's posture held; else (the flight would touch something) nothing
+        moves and the plan's joint-space move takes it. A joint-space move between two
+        top-down postures tilts the hand midway and swings an object hanging from the fingers
+        out of them."""
+        hand, loop = self.hand, self.loop
+        seconds = max(2.0, float(np.linalg.norm(drop.above - hand.tcp()[0])) / CARRY_SPEED)
+        now = arm_qpos(loop.model, loop.data)
+        if (done := self._glide(drop, sol, sol.shift, seconds)) is not None:
+            return done
+        # The plan's heading failed: a plan for the hand's heading now.
+        keep = hand.planner.plan(
+            drop.release,
+            drop.above - drop.release,
+            [top_down_rotation(drop.heading)],
+            drop.ignore,
+            GRIPPER_CLOSED,
+            now,
+            [BaseMove.still()],
+            PLACE_CLEARANCE,
+        )
+        if (
+            keep is not None
+            and not keep.hits
+            and (done := self._glide(drop, keep, sol.shift, seconds)) is not None
+        ):
+            return done
+        travel = drop.above - hand.tcp()[0]
+        down = self._descent(drop, BaseMove(travel))
+        if down is not None and hand.flight.flight_clear(travel):
+            hand.shift_base(BaseMove(travel))
+            # Planned again where the UAV settled: the hover is never exact.
+            way = self._descent(drop, BaseMove.still()) or down
+            return way.q_start, way.q_end, way.rotation, sol.shift.plus(travel)
+        return sol.q_start, sol.q_end, sol.rotation, sol.shift
+
+    def _glide(self, drop: _Drop, plan: Reach, shift: BaseMove, seconds: float) -> Descent | None:
+        """Glide the hand to above the release towards ``plan``'s start; the descent from
+        where it ends (another branch, maybe: planned again there), else ``None``."""
+        if not self.hand.lines.glide(
+            drop.above, plan.rotation, seconds, GRIPPER_CLOSED, plan.q_start
+        ):
+            return None
+        way = self._descent(drop, BaseMove.still()) or plan
+        return way.q_start, way.q_end, way.rotation, shift
+
+    def _descent(self, drop: _Drop, base: BaseMove) -> Reach | None:
+        """The clear way down from above the release with the UAV moved by ``base``, starting
+        within :data:`GLIDE_TOL` of the arm's posture now (the hand already above), if any."""
+        now = arm_qpos(self.loop.model, self.loop.data)
+        down = self._plan_top_down(
+            drop.release, drop.above - drop.release, drop.heading, drop.ignore, now, [base]
+        )
+        if down is None or down.hits or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
+            return None
+        return down
+
+    def _plan_top_down(
+        self,
+        point: FloatArray,
+        approach: FloatArray,
+        yaw_rad: float,
+        ignore: set[int],
+        seed: FloatArray,
+        assist: list[BaseMove] | None = None,
+    ) -> Reach | None:
+        """The top-down motion from ``point + approach`` down to ``point`` with the object
+        held, over the four headings equivalent for a box-like object, preferring those that
+        keep :data:`PLACE_CLEARANCE` from the rest."""
+        rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(4)]
+        return self.hand.planner.plan(
+            point, approach, rotations, ignore, GRIPPER_CLOSED, seed, assist, PLACE_CLEARANCE
+        )
+
+    def _drawer_assists(
+        self, episode: Episode, dest: str, release: FloatArray
+    ) -> list[BaseMove] | None:
+        """For a release into an open drawer, UAV moves to hover in front of it, high: the
+        drawer's tall front leaves the arm no way in across it, only down from above; then the
+        usual assists; last, the hovers with the UAV turned by one of :data:`DRAWER_TURNS`:
+        the base joint turns through 5.8 rad, not a full turn, so from one heading the arm may
+        have no way in that another gives. ``None`` (the usual assists) for other
+        destinations."""
+        part = next((p for p in episode.parts if p.id == dest and p.kind == "drawer"), None)
+        if part is None:
+            return None
+        axis = self.hand.outward_axis(part.parent)
+        base = self.loop.data.body(ARM_BASE_BODY).xpos
+        hover = [
+            np.append(release[:2] + axis[:2] * out, release[2] + depth) - base
+            for depth in DRAWER_DEPTHS
+            for out in DRAWER_OUT
+        ]
+        turned = [BaseMove(move, turn) for turn in DRAWER_TURNS for move in hover]
+        return [*map(BaseMove, hover), *self.hand.planner.assists(release), *turned]
+
+    def _in_hand(self, obj: str) -> FloatArray:
+        """Where ``obj`` is in the hand's frame (m)."""
+        tcp, rot = self.hand.tcp()
+        return rot.T @ (np.array(self.loop.data.body(obj).xpos) - tcp)

@@ -1,0 +1,53 @@
+"""Vision-language-action use of the simulator: a learned policy drives the ARM steps.
+
+Sits above :mod:`vlm_bench.executor` (it replays plans through :func:`execute_plan` and its
+:class:`~vlm_bench.executor.SimLoop`); the runner never needs it.
+
+* ``action``: the 12-D :class:`VlaAction` and how it is applied for one control period.
+* ``observation``: the :class:`VlaObservation` (camera images, proprioception) a policy sees.
+* ``hierarchical``: the :class:`Policy` protocol and :func:`policy_skills`, the ARM skills a
+  policy drives inside a plan replay.
+* ``gym_env``: :class:`~vlm_bench.vla.gym_env.AerialManipulationEnv`, a gymnasium environment
+  (imported on its own: it needs the ``gym`` extra).
+
+The VLA metrics (S_pos, S_arm, S_safe) score every replay, scripted or not, so they live in
+:mod:`vlm_bench.executor.vla_metrics`.
+"""
+
+from vlm_bench.vla.action import (
+    ACTION_FIELDS,
+    MAX_UAV_STEP_M,
+    MAX_YAW_STEP_RAD,
+    VlaAction,
+    apply_action,
+)
+from vlm_bench.vla.hierarchical import (
+    DEFAULT_MAX_STEPS,
+    Policy,
+    PolicyOutput,
+    grasped_object,
+    policy_skills,
+)
+from vlm_bench.vla.observation import (
+    PROPRIO_FIELDS,
+    ObservationConfig,
+    Proprioception,
+    VlaObservation,
+)
+
+__all__ = [
+    "ACTION_FIELDS",
+    "DEFAULT_MAX_STEPS",
+    "MAX_UAV_STEP_M",
+    "MAX_YAW_STEP_RAD",
+    "PROPRIO_FIELDS",
+    "ObservationConfig",
+    "Policy",
+    "PolicyOutput",
+    "Proprioception",
+    "VlaAction",
+    "VlaObservation",
+    "apply_action",
+    "grasped_object",
+    "policy_skills",
+]
