@@ -26,7 +26,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.cli.options import parse_seeds
-from vlm_bench.runner import execute_run
+from vlm_bench.runner import run_benchmark
 from vlm_bench.types.run import RunConfig
 
 STAGES = {
@@ -59,7 +59,7 @@ def timed_run(
     start = time.perf_counter()
     if profiler is not None:
         profiler.enable()
-    execute_run(config, root, snapshot_cache=cache, progress=False)
+    run_benchmark(config, root, snapshot_cache=cache, progress=False)
     if profiler is not None:
         profiler.disable()
     elapsed = time.perf_counter() - start

@@ -21,9 +21,9 @@ import mujoco
 import numpy as np
 from PIL import Image, ImageDraw
 
-from vlm_bench.catalog.world import object_kinds
+from vlm_bench.catalog.world_catalog import object_kinds
 from vlm_bench.sim.objects import add_object
-from vlm_bench.sim.objects.base import shade
+from vlm_bench.sim.objects.builder_kit import shade
 from vlm_bench.types.base import Vec3
 from vlm_bench.types.episode import EpisodeObject
 from vlm_bench.types.world import ObjectKind

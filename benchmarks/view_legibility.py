@@ -38,7 +38,7 @@ VIEWS = ("overhead", "side")
 
 def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     global _RENDERER
-    from vlm_bench.catalog.world import object_kind
+    from vlm_bench.catalog.world_catalog import object_kind
     from vlm_bench.episodes import make_episode
     from vlm_bench.sim.footprint import measure_scene_legibility
     from vlm_bench.sim.render import SnapshotRenderer

@@ -129,13 +129,13 @@ def run(
         ConfigError: Invalid options. RunLockedError / ConfigMismatchError: see the CLI docs.
     """
     from vlm_bench.report import write_summary
-    from vlm_bench.runner import execute_run
+    from vlm_bench.runner import run_benchmark
 
     if config is None:
         config = run_config(**options)
     elif options:
         raise ConfigError("give a RunConfig or keyword options, not both")
-    outcome = execute_run(
+    outcome = run_benchmark(
         config,
         run_dir_for(config, out, run_name),
         backend=backend,

@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 
 import pytest
 
-import vlm_bench.backends.registry as registry_module
+import vlm_bench.backends.backend_registry as registry_module
 from vlm_bench.backends import (
     BACKENDS,
     Backend,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 
-from vlm_bench.catalog.ground_truth import load_materialised
+from vlm_bench.catalog.gt_episodes import load_materialised
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.parsing import is_valid, parse_plan, plan_json_schema
 from vlm_bench.parsing.schema import MAX_PLAN_STEPS

@@ -180,7 +180,7 @@ def test_a_missing_extra_is_reported_before_the_folder(
 def test_a_model_that_fails_to_load_is_one_line_and_leaves_no_folder(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import vlm_bench.runner.run as run_module
+    import vlm_bench.runner.benchmark_run as run_module
 
     folder = tmp_path / "model"
     folder.mkdir()

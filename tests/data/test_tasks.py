@@ -12,7 +12,7 @@ from collections import Counter
 import pytest
 
 from vlm_bench.catalog.tasks import all_tasks, tasks_in
-from vlm_bench.catalog.world import environments, object_kind
+from vlm_bench.catalog.world_catalog import environments, object_kind
 from vlm_bench.types.task import PlacedObject, Suite, TaskSpec
 
 SUITE_COUNTS = {

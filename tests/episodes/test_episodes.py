@@ -8,9 +8,9 @@ from collections import Counter
 
 import pytest
 
-from vlm_bench.catalog.ground_truth import load_materialised, materialised_path
+from vlm_bench.catalog.gt_episodes import load_materialised, materialised_path
 from vlm_bench.catalog.tasks import all_tasks, get_task
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes import make_episode
 from vlm_bench.episodes.materialise import materialise, to_text
 from vlm_bench.errors import ConfigError, UnknownNameError

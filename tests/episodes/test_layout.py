@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes.layout import check_layout
 from vlm_bench.types.episode import EpisodeObject
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from vlm_bench.catalog import tasks as task_catalog
-from vlm_bench.catalog import world as world_catalog
+from vlm_bench.catalog import world_catalog
 from vlm_bench.errors import DataFileError
 from vlm_bench.resources import ground_truth_dir, skills_dir
 

@@ -276,8 +276,8 @@ def test_rule_numbers_in_the_prompt_are_the_ground_truths() -> None:
     import inspect
     import math
 
-    from vlm_bench.catalog.world import object_kinds
-    from vlm_bench.episodes.ground_truth import GroundTruthBuilder
+    from vlm_bench.catalog.world_catalog import object_kinds
+    from vlm_bench.episodes.gt_builder import GroundTruthBuilder
     from vlm_bench.rules import work
     from vlm_bench.types.geometry import APPROACH
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from vlm_bench.catalog.world import environment, environments
+from vlm_bench.catalog.world_catalog import environment, environments
 from vlm_bench.sim.constants import FLOOR_GEOM
 from vlm_bench.sim.environment import (
     FILL_LIGHT,

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from vlm_bench.catalog.tasks import all_tasks
-from vlm_bench.catalog.world import environment
+from vlm_bench.catalog.world_catalog import environment
 from vlm_bench.episodes import make_episode
 from vlm_bench.sim.cameras import WALL_CLEARANCE, framing_points
 from vlm_bench.sim.constants import CAM_OVERHEAD, THIRD_PERSON_CAMERAS

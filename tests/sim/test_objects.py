@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from vlm_bench.catalog.world import object_kind, object_kinds
+from vlm_bench.catalog.world_catalog import object_kind, object_kinds
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.sim.constants import object_geom, part_handle_site, part_joint
 from vlm_bench.sim.objects import (

@@ -11,7 +11,7 @@ from vlm_bench.sim.constants import CAM_OVERHEAD, CAMERAS
 from vlm_bench.sim.labels import project_points
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.sim.scene import build_scene
-from vlm_bench.sim.snapshots import render_scene
+from vlm_bench.sim.snapshot_render import render_scene
 
 SIZE = 96
 

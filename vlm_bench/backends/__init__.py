@@ -4,8 +4,8 @@ Importing this package imports no heavy dependency (torch, transformers, openai,
 backend imports its own when it is built.
 """
 
-from vlm_bench.backends.base import Backend, BackendArgs, parse_args
-from vlm_bench.backends.registry import (
+from vlm_bench.backends.backend import Backend, BackendArgs, parse_args
+from vlm_bench.backends.backend_registry import (
     BACKENDS,
     ENTRY_POINT_GROUP,
     BackendEntry,

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from functools import cache
 
 from vlm_bench.backends.builtin import PlannerBackend
-from vlm_bench.catalog.ground_truth import load_materialised
+from vlm_bench.catalog.gt_episodes import load_materialised
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.types.generation import GenerationRequest
 from vlm_bench.types.plan import ArmStep, Direction, UavStep

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from pydantic import Field, model_validator
 
-from vlm_bench.backends.base import Backend, BackendArgs
+from vlm_bench.backends.backend import Backend, BackendArgs
 from vlm_bench.catalog.files import not_utf8
 from vlm_bench.catalog.skills import skills
 from vlm_bench.errors import ConfigError, DataFileError

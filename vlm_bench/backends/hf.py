@@ -17,7 +17,7 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.base import Backend, BackendArgs, require_schemas, share_wall_time
+from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas, share_wall_time
 from vlm_bench.backends.hf_constrained import SchemaConstraint
 from vlm_bench.backends.hf_decoding import hf_generate_kwargs, neutral_generation_config
 from vlm_bench.backends.image_limits import ImageLimits, apply_image_limits

@@ -26,7 +26,7 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.base import Backend, BackendArgs, require_schemas, share_wall_time
+from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas, share_wall_time
 from vlm_bench.backends.messages import openai_messages
 from vlm_bench.backends.openai_checks import (
     ServerUnreachableError,

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 from importlib import import_module
 from importlib.util import find_spec
 
-from vlm_bench.backends.base import Backend, parse_args
+from vlm_bench.backends.backend import Backend, parse_args
+from vlm_bench.backends.backend_registry import BACKENDS, card_for, split_model
 from vlm_bench.backends.model_source import check_model_source
-from vlm_bench.backends.registry import BACKENDS, card_for, split_model
 from vlm_bench.errors import ConfigError, MissingExtraError
 
 WEIGHTLESS = frozenset({"oracle", "random", "blind", "rules", "mock"})

@@ -14,7 +14,7 @@ from typing import Any
 
 from pydantic import Field, field_validator
 
-from vlm_bench.backends.base import Backend, BackendArgs, require_schemas, share_wall_time
+from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas, share_wall_time
 from vlm_bench.backends.image_limits import ImageLimits
 from vlm_bench.backends.messages import openai_messages
 from vlm_bench.errors import ConfigError, MissingExtraError

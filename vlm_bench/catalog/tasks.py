@@ -9,7 +9,7 @@ from pathlib import Path
 
 from vlm_bench.catalog.files import load_model
 from vlm_bench.catalog.skills import skills
-from vlm_bench.catalog.world import environments, object_kinds, world
+from vlm_bench.catalog.world_catalog import environments, object_kinds, world
 from vlm_bench.errors import DataFileError, UnknownNameError
 from vlm_bench.resources import ground_truth_dir
 from vlm_bench.types.task import Suite, TaskSpec

@@ -71,7 +71,7 @@ def report(
 ) -> None:
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
     from vlm_bench.report.make import build_report, render_tables, write_outputs
-    from vlm_bench.report.options import report_options
+    from vlm_bench.report.report_options import report_options
 
     options = report_options(
         runs=tuple(runs),

@@ -32,7 +32,7 @@ def tasks(
 ) -> None:
     """List the benchmark tasks per suite."""
     from vlm_bench.catalog.tasks import tasks_in
-    from vlm_bench.catalog.world import environment as get_env
+    from vlm_bench.catalog.world_catalog import environment as get_env
 
     chosen = tasks_in(parse_suite(suite))
     if environment is not None:
@@ -103,7 +103,7 @@ def render(
 ) -> None:
     """Render the four camera views as PNGs plus a labelled 2×2 sheet."""
     from vlm_bench.episodes import make_episode
-    from vlm_bench.sim.snapshots import render_episode, save_views
+    from vlm_bench.sim.snapshot_render import render_episode, save_views
 
     writable_folder("--out", out)
     variant = parse_variant(instruction)
@@ -129,7 +129,7 @@ def sheet(
     """Render a contact sheet of many tasks (one view each, or all four)."""
     from vlm_bench.catalog.tasks import get_task, tasks_in
     from vlm_bench.episodes import make_episode
-    from vlm_bench.sim.snapshots import episode_sheet
+    from vlm_bench.sim.snapshot_render import episode_sheet
 
     writable_file("--out", out, make_folder=True)
     image_file("--out", out)

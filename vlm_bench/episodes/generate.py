@@ -14,10 +14,10 @@ import zlib
 import numpy as np
 
 from vlm_bench.catalog.tasks import get_task, task_index
-from vlm_bench.catalog.world import environment, object_kind
-from vlm_bench.episodes.geometry import point_rect_distance, rect_corners
-from vlm_bench.episodes.ground_truth import AmbiguousGeometry, GroundTruthBuilder
+from vlm_bench.catalog.world_catalog import environment, object_kind
+from vlm_bench.episodes.gt_builder import AmbiguousGeometry, GroundTruthBuilder
 from vlm_bench.episodes.layout import part_refs, place_objects
+from vlm_bench.episodes.plane_geometry import point_rect_distance, rect_corners
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
 from vlm_bench.types.episode import Episode, Lighting, UavPose

@@ -6,8 +6,8 @@ from collections import Counter
 
 import numpy as np
 
-from vlm_bench.catalog.world import object_kind
-from vlm_bench.episodes.geometry import rect_corners, rects_overlap
+from vlm_bench.catalog.world_catalog import object_kind
+from vlm_bench.episodes.plane_geometry import rect_corners, rects_overlap
 from vlm_bench.rules import rotate_xy
 from vlm_bench.types.base import Vec3
 from vlm_bench.types.episode import EpisodeObject, PartRef

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from collections.abc import Iterable
 
-from vlm_bench.catalog.ground_truth import MATERIALISED_SEEDS, materialised_path
+from vlm_bench.catalog.gt_episodes import MATERIALISED_SEEDS, materialised_path
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.types.ground_truth import MaterialisedTask

@@ -6,25 +6,25 @@
 """
 
 from vlm_bench.report.bootstrap import bootstrap_cis
-from vlm_bench.report.diagnostics import (
-    error_code_frequencies,
-    error_code_table,
-    loc_over_blind_run,
-    parse_tier_rates,
-)
-from vlm_bench.report.frame import (
+from vlm_bench.report.dataframe import (
     COLUMNS,
     EXEC_METRICS,
     METRICS,
     load_records_frame,
     records_frame,
 )
+from vlm_bench.report.diagnostics import (
+    error_code_frequencies,
+    error_code_table,
+    loc_over_blind_run,
+    parse_tier_rates,
+)
 from vlm_bench.report.groups import SUITES, Grouping, grouping, paper_columns, paper_grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import DERIVED, SETTINGS, load
 from vlm_bench.report.make import Report, build_report, make_report, render_tables
-from vlm_bench.report.options import ReportOptions, report_options
 from vlm_bench.report.paired import PairedComparison, paired_comparison, paired_table, sign_test
+from vlm_bench.report.report_options import ReportOptions, report_options
 from vlm_bench.report.summary import (
     BOTH,
     EXEC_VALUES,

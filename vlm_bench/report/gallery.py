@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped, unused-ignore]
 
     from vlm_bench.report.gallery_views import EpisodeViews
-    from vlm_bench.report.options import ReportOptions
+    from vlm_bench.report.report_options import ReportOptions
 
 TEMPLATE = "gallery.html.j2"
 VIDEO_TYPES = {".mp4": "video/mp4", ".webm": "video/webm", ".gif": "image/gif"}

@@ -19,7 +19,7 @@ from vlm_bench.types.prompt import VIEWS
 from vlm_bench.types.run import RunManifest
 
 if TYPE_CHECKING:
-    from vlm_bench.runner.snapshots import SnapshotSource
+    from vlm_bench.runner.cached_snapshots import SnapshotSource
 
 JPEG_QUALITY = 85
 
@@ -48,7 +48,7 @@ class EpisodeViews:
     def views(self, task_id: str, seed: int) -> dict[str, bytes]:
         """JPEG bytes of each view found (all four when rendering is allowed)."""
         from vlm_bench.episodes import make_episode
-        from vlm_bench.runner.snapshots import SnapshotSource, snapshot_key
+        from vlm_bench.runner.cached_snapshots import SnapshotSource, snapshot_key
 
         episode = make_episode(task_id, seed)
         key = snapshot_key(episode, self.size, self.labels)

@@ -1,6 +1,6 @@
 """``load(*runs)``: one tidy row per episode of any number of run folders, with their settings.
 
-The rows are :func:`vlm_bench.report.frame.records_frame`'s, plus the run's settings from its
+The rows are :func:`vlm_bench.report.dataframe.records_frame`'s, plus the run's settings from its
 manifest (:data:`SETTINGS`, so that ``--by views,resolution`` compares ablations) and a few
 columns derived from the record (:data:`DERIVED`).
 """
@@ -15,7 +15,7 @@ from typing import Any
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.report.frame import records_frame
+from vlm_bench.report.dataframe import records_frame
 from vlm_bench.report.groups import paper_grouping
 from vlm_bench.storage import RunPaths, latest_records, read_manifest
 from vlm_bench.types.plan import Direction
@@ -182,7 +182,7 @@ def load(*runs: str | Path) -> pd.DataFrame:
         *runs: Run folders or glob patterns (``results/*``).
 
     Returns:
-        The columns of :data:`vlm_bench.report.frame.COLUMNS`, then :data:`SETTINGS` and
+        The columns of :data:`vlm_bench.report.dataframe.COLUMNS`, then :data:`SETTINGS` and
         :data:`DERIVED` (``run`` and ``run_dir`` come first).
 
     Raises:

@@ -24,8 +24,8 @@ from vlm_bench.report.diagnostics import (
 from vlm_bench.report.groups import Grouping, grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import load
-from vlm_bench.report.options import ReportOptions
 from vlm_bench.report.paired import find_system, paired_table
+from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
 from vlm_bench.report.summary import sort_systems, summary_long, table_values
 from vlm_bench.report.tables import summary_markdown

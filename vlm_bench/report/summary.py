@@ -29,7 +29,7 @@ from collections.abc import Sequence
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
-from vlm_bench.report.frame import EXEC_METRICS, METRICS
+from vlm_bench.report.dataframe import EXEC_METRICS, METRICS
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 
 __all__ = ["OVERALL"]

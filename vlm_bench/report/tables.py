@@ -10,7 +10,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from rich import box
 from rich.table import Table
 
-from vlm_bench.report.frame import load_records_frame
+from vlm_bench.report.dataframe import load_records_frame
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.summary import (
     VALUES,

@@ -1,6 +1,6 @@
 """The planning rules every UAV move of the benchmark follows, in one place.
 
-The GT builder (:mod:`vlm_bench.episodes.ground_truth`), the prompt's rule section
+The GT builder (:mod:`vlm_bench.episodes.gt_builder`), the prompt's rule section
 (:mod:`vlm_bench.prompting`), the few-shot examples, the ``rules`` planner and the executor's
 stopping rule all read them from here: where an ARM step works (its working point), when a
 working point is in reach, which of the eight directions a move takes, where a move stops, when
@@ -16,8 +16,8 @@ from vlm_bench.rules.frame import (
     rotate_xy,
     wrap_deg,
 )
-from vlm_bench.rules.scene import SceneEntry, format_scene, parse_scene, scene_entries
 from vlm_bench.rules.scene_plan import Segment, plan_from_scene, plan_segments
+from vlm_bench.rules.scene_text import SceneEntry, format_scene, parse_scene, scene_entries
 from vlm_bench.rules.work import (
     CONTAINER_FLOOR,
     DRAWER_FLOOR_BELOW_HANDLE,

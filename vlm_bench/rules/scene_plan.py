@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from vlm_bench.rules.approach import Leg, UavState, WorkPoint, approach_moves
-from vlm_bench.rules.scene import SceneEntry
+from vlm_bench.rules.scene_text import SceneEntry
 from vlm_bench.rules.work import DRAWER_PULL
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
 from vlm_bench.types.plan import ArmStep, UavStep

@@ -8,7 +8,7 @@ from functools import cache
 
 from pydantic import Field
 
-from vlm_bench.catalog.world import object_kinds
+from vlm_bench.catalog.world_catalog import object_kinds
 from vlm_bench.types.base import Frozen
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
 

@@ -1,14 +1,14 @@
-"""The episode pipeline and run folders: run, resume, rescore (see :func:`execute_run`), and
+"""The episode pipeline and run folders: run, resume, rescore (see :func:`run_benchmark`), and
 single-plan replays (:func:`replay_plan`)."""
 
+from vlm_bench.runner.benchmark_run import RunOutcome, make_manifest, run_benchmark
+from vlm_bench.runner.cached_snapshots import SnapshotSource, snapshot_key
 from vlm_bench.runner.evaluate import Evaluation, evaluate_output
 from vlm_bench.runner.execution import PlanExecutor, episode_noise_seed, record_plan
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.replay import Replay, VideoOptions, replay_plan
 from vlm_bench.runner.rescore import RescoreOutcome, rescore_run, score_output
-from vlm_bench.runner.run import RunOutcome, execute_run, make_manifest
 from vlm_bench.runner.selection import EpisodeRef, default_run_dir, model_slug, select_episodes
-from vlm_bench.runner.snapshots import SnapshotSource, snapshot_key
 
 __all__ = [
     "EpisodePipeline",
@@ -24,12 +24,12 @@ __all__ = [
     "default_run_dir",
     "episode_noise_seed",
     "evaluate_output",
-    "execute_run",
     "make_manifest",
     "model_slug",
     "record_plan",
     "replay_plan",
     "rescore_run",
+    "run_benchmark",
     "score_output",
     "select_episodes",
     "snapshot_key",

@@ -20,12 +20,12 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.errors import VlmBenchError
 from vlm_bench.parsing import plan_json_schema
 from vlm_bench.prompting import build_prompt
+from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
 from vlm_bench.runner.interrupt import StopFlag
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays
 from vlm_bench.runner.selection import EpisodeRef
-from vlm_bench.runner.snapshots import SnapshotSource
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode

@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.catalog.world import environment, object_kind
+from vlm_bench.catalog.world_catalog import environment, object_kind
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE
 from vlm_bench.sim.framing import (
     closest_fit,

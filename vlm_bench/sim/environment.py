@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.catalog.world import color
+from vlm_bench.catalog.world_catalog import color
 from vlm_bench.sim import props
 from vlm_bench.sim.constants import FLOOR_GEOM
 from vlm_bench.sim.materials import solid_material, textured_material, to_u8

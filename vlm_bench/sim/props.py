@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 import mujoco
 
-from vlm_bench.catalog.world import color
+from vlm_bench.catalog.world_catalog import color
 from vlm_bench.sim.materials import solid_material
 from vlm_bench.types.base import RGBA, Vec3
 from vlm_bench.types.world import EnvironmentSpec

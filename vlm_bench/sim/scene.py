@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import mujoco
 
-from vlm_bench.catalog.world import environment
+from vlm_bench.catalog.world_catalog import environment
 from vlm_bench.sim.cameras import add_third_person_cameras
 from vlm_bench.sim.constants import ARM_OBSERVE, GRIPPER_OPEN, PHYSICS_DT, SLEEP
 from vlm_bench.sim.environment import add_environment

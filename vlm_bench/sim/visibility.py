@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.errors import UnknownNameError
 from vlm_bench.sim.uav import CAMERA_FOVY, CAMERA_PITCH_DEG, CAMERA_POS
 from vlm_bench.types.base import FloatArray as Vec

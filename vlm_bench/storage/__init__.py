@@ -9,8 +9,8 @@ from vlm_bench.storage.folder import (
 )
 from vlm_bench.storage.jsonl import JsonlWriter, iter_jsonl, repair_tail
 from vlm_bench.storage.provenance import data_hashes, git_revision, package_versions
-from vlm_bench.storage.records import latest_records, read_records, read_responses
-from vlm_bench.storage.snapshots import SnapshotCache, default_snapshot_cache
+from vlm_bench.storage.record_reader import latest_records, read_records, read_responses
+from vlm_bench.storage.snapshot_cache import SnapshotCache, default_snapshot_cache
 from vlm_bench.storage.store import RunStore
 
 __all__ = [

@@ -19,7 +19,7 @@ from vlm_bench.storage.folder import (
     write_manifest,
 )
 from vlm_bench.storage.jsonl import JsonlWriter, repair_tail, write_jsonl_atomic
-from vlm_bench.storage.records import latest_records, read_responses
+from vlm_bench.storage.record_reader import latest_records, read_responses
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig, RunManifest
 

@@ -13,8 +13,8 @@ from vlm_bench.sim.objects import (  # noqa: F401  (imported to register their b
     tableware,
     toys,
 )
-from vlm_bench.sim.objects.base import OBJECT_BUILDERS, ObjectBuilder, free_joint_name
 from vlm_bench.sim.objects.bounds import geom_bounds, object_bounds
+from vlm_bench.sim.objects.builder_kit import OBJECT_BUILDERS, ObjectBuilder, free_joint_name
 from vlm_bench.sim.objects.placement import add_object, apply_initial_state
 
 __all__ = [

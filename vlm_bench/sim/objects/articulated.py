@@ -14,7 +14,7 @@ import math
 import mujoco
 
 from vlm_bench.sim.constants import part_handle_site, part_joint
-from vlm_bench.sim.objects.base import (
+from vlm_bench.sim.objects.builder_kit import (
     GRIP,
     OBJECT_BUILDERS,
     PLAIN,

@@ -9,7 +9,7 @@ import math
 
 import mujoco
 
-from vlm_bench.sim.objects.base import (
+from vlm_bench.sim.objects.builder_kit import (
     OBJECT_BUILDERS,
     PLAIN,
     Kit,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mujoco
 
-from vlm_bench.sim.objects.base import OBJECT_BUILDERS, PLAIN, object_kit, shade
+from vlm_bench.sim.objects.builder_kit import OBJECT_BUILDERS, PLAIN, object_kit, shade
 from vlm_bench.types.base import RGBA
 from vlm_bench.types.episode import EpisodeObject
 from vlm_bench.types.world import ObjectKind

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mujoco
 
-from vlm_bench.sim.objects.base import (
+from vlm_bench.sim.objects.builder_kit import (
     GRIP,
     OBJECT_BUILDERS,
     Kit,

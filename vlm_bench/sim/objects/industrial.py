@@ -6,7 +6,7 @@ import math
 
 import mujoco
 
-from vlm_bench.sim.objects.base import (
+from vlm_bench.sim.objects.builder_kit import (
     GRIP,
     OBJECT_BUILDERS,
     object_kit,

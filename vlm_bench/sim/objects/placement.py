@@ -6,10 +6,10 @@ import math
 
 import mujoco
 
-from vlm_bench.catalog.world import color, object_kind
+from vlm_bench.catalog.world_catalog import color, object_kind
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.sim.constants import part_joint
-from vlm_bench.sim.objects.base import OBJECT_BUILDERS
+from vlm_bench.sim.objects.builder_kit import OBJECT_BUILDERS
 from vlm_bench.types.episode import EpisodeObject
 
 

@@ -16,7 +16,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.rules.frame import rotate_xy
 from vlm_bench.rules.work import (
     DRAWER_FLOOR_BELOW_HANDLE,

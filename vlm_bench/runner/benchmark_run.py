@@ -13,12 +13,12 @@ from vlm_bench.backends import Backend, resolve_backend
 from vlm_bench.backends.preflight import BackendCheck, check_backend, loads_model_in_process
 from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
+from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.runner.selection import select_episodes
-from vlm_bench.runner.snapshots import SnapshotSource
 from vlm_bench.sim.gl_preload import preload_before_gl
 from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.storage import (
@@ -123,7 +123,7 @@ def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[Snap
         source.close()
 
 
-def execute_run(
+def run_benchmark(
     config: RunConfig,
     run_dir: Path,
     *,

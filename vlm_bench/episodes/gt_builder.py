@@ -19,8 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vlm_bench.catalog.world import object_kind
-from vlm_bench.episodes.geometry import rect_corners, segment_rect_distance
+from vlm_bench.catalog.world_catalog import object_kind
+from vlm_bench.episodes.plane_geometry import rect_corners, segment_rect_distance
 from vlm_bench.rules import (
     DRAWER_FLOOR_BELOW_HANDLE,
     DRAWER_INSIDE_BEHIND_HANDLE,

@@ -19,7 +19,7 @@ from importlib import import_module
 from importlib.metadata import EntryPoint, entry_points
 from pathlib import Path
 
-from vlm_bench.backends.base import Backend
+from vlm_bench.backends.backend import Backend
 from vlm_bench.catalog.model_cards import model_cards
 from vlm_bench.errors import ConfigError
 from vlm_bench.registry import Registry

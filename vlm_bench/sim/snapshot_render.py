@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image
 
-from vlm_bench.catalog.world import object_kind
+from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.errors import UnknownNameError
 from vlm_bench.sim.constants import CAMERAS, DEFAULT_IMAGE_SIZE, THIRD_PERSON_CAMERAS
 from vlm_bench.sim.labels import draw_labels, project_points
