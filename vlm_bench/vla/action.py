@@ -24,7 +24,7 @@ from vlm_bench.errors import ConfigError
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.sim.constants import ARM_JOINTS, GRIPPER_CLOSED, GRIPPER_OPEN
 from vlm_bench.sim.robot import set_arm_targets
-from vlm_bench.types.base import Frozen
+from vlm_bench.types.base import FloatArray, Frozen
 from vlm_bench.vla.observation import JointAngles, Proprioception
 
 MAX_UAV_STEP_M = 0.05  # m per control step along each body axis
@@ -96,9 +96,9 @@ class VlaAction(Frozen):
 
 
 def action_bounds(
-    joint_low: Sequence[float] | NDArray[np.float64] | None = None,
-    joint_high: Sequence[float] | NDArray[np.float64] | None = None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    joint_low: Sequence[float] | FloatArray | None = None,
+    joint_high: Sequence[float] | FloatArray | None = None,
+) -> tuple[FloatArray, FloatArray]:
     """Lower and upper bounds of the array form (joints unbounded unless limits are given)."""
     n = len(ARM_JOINTS)
     q_lo = [-math.inf] * n if joint_low is None else [float(x) for x in joint_low]
@@ -108,7 +108,7 @@ def action_bounds(
     return np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
 
 
-def joint_limits(model: mujoco.MjModel) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def joint_limits(model: mujoco.MjModel) -> tuple[FloatArray, FloatArray]:
     """Lower and upper limits of the 7 arm joints (rad), read from the model."""
     ranges = np.array([model.joint(name).range for name in ARM_JOINTS], dtype=np.float64)
     return ranges[:, 0].copy(), ranges[:, 1].copy()
