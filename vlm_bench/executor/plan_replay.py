@@ -57,8 +57,9 @@ def run_move(
     """Fly ``step``, stopping for ``arm``, the next ARM step, if any. The arm is stowed first
     unless it holds something: folding a held object up against the arm knocks it out of the
     fingers, so it is carried where the pick lifted it, turned aside (by ``carrier``, the
-    arm's planner) where it would meet something on the way, and turned back after; where no
-    turn clears the way, the UAV climbs first and flies that much higher, if that does."""
+    arm's flight clearance) where it would meet something on the way, and turned back after;
+    where no turn clears the way, the UAV climbs first and flies that much higher, if that
+    does."""
     ref = refs(loop.data, arm.object, arm.skill, loop.held) if arm else None
     flight = loop.config.flight
     if loop.held is None:
