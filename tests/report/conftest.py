@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from vlm_bench.types.execution import ExecutionSummary, VlaScores
+from vlm_bench.types.execution import ExecutionSummary, FailureCode, VlaScores
 from vlm_bench.types.records import EpisodeRecord, episode_key
 from vlm_bench.types.run import DataHashes, RunConfig, RunManifest
 from vlm_bench.types.scores import PlanScores
@@ -48,6 +48,7 @@ def execution(success: bool, s_task: float) -> ExecutionSummary:
         steps_ok=success,
         n_steps_done=3 if success else 1,
         failure_reason=None if success else "step 1: gray_cube is out of reach",
+        failure_code=None if success else FailureCode.OUT_OF_REACH,
         s_task=s_task,
         scores=VlaScores(s_pos=50.0, s_arm=50.0, s_safe=100.0, s_task=s_task, total=50.0),
         sim_time_s=1.0,

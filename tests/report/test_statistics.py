@@ -13,6 +13,8 @@ from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.report import (
     bootstrap_cis,
     error_code_frequencies,
+    failure_code_frequencies,
+    failure_code_table,
     loc_over_blind_run,
     paired_comparison,
     parse_tier_rates,
@@ -21,6 +23,7 @@ from vlm_bench.report import (
     summary_long,
 )
 from vlm_bench.report.groups import Grouping
+from vlm_bench.types.execution import ExecutionSummary, FailureCode
 from vlm_bench.types.records import EpisodeRecord
 
 Make = Callable[..., EpisodeRecord]
@@ -182,6 +185,40 @@ def test_parse_tiers_and_error_codes_hand_computed(make_record: Make) -> None:
     assert m.loc["wrong_direction", "count"] == 2 and m.loc["wrong_direction", "share"] == 50.0
     assert m.loc["no_plan", "share"] == 25.0
     assert not (codes.model == "n").any()
+
+
+def test_execution_failure_codes_per_system(
+    make_record: Make, make_execution: Callable[..., ExecutionSummary]
+) -> None:
+    """Shares are of the answered episodes that were to be executed: 4 for m (2 replays fail
+    out of reach, 1 answer held no plan, 1 succeeds); the backend error is not counted."""
+    crash = make_execution(False, 0.0).model_copy(
+        update={"failure_code": FailureCode.EXECUTOR_CRASH, "failure_reason": "executor raised"}
+    )
+    recs = [
+        make_record("m", "standard_pick_place", 0, "explicit", 90.0,
+                    executed=make_execution(False, 50.0)),
+        make_record("m", "standard_pick_place", 0, "implicit", 90.0,
+                    executed=make_execution(False, 0.0)),
+        make_record("m", "tower_stacking", 0, "explicit", 10.0, executed=None),
+        make_record("m", "tower_stacking", 0, "implicit", 100.0,
+                    executed=make_execution(True, 100.0)),
+        make_record("m", "tower_stacking", 1, "implicit", None),
+        make_record("n", "tower_stacking", 0, "implicit", 40.0, executed=crash),
+    ]  # fmt: skip
+    frame = records_frame(recs, {"m": True, "n": True})
+    assert frame["exec_failure_code"].fillna("-").tolist() == [
+        "out_of_reach", "out_of_reach", "no_plan", "-", "-", "executor_crash",
+    ]  # fmt: skip
+    long = failure_code_frequencies(frame).set_index(["model", "code"])
+    assert long.loc[("m", "out_of_reach"), "count"] == 2
+    assert long.loc[("m", "out_of_reach"), "share"] == 50.0
+    assert long.loc[("m", "no_plan"), "share"] == 25.0
+    assert long.loc[("n", "executor_crash"), "share"] == 100.0
+    wide = failure_code_table(frame).set_index("model")
+    assert list(wide.columns) == ["out_of_reach", "executor_crash", "no_plan"]  # ties by name
+    assert wide.loc["n"].tolist() == [0.0, 100.0, 0.0]
+    assert failure_code_table(records_frame(recs, {"m": False, "n": False})).empty
 
 
 def test_loc_above_a_blind_run(make_record: Make) -> None:

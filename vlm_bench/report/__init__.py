@@ -16,6 +16,8 @@ from vlm_bench.report.dataframe import (
 from vlm_bench.report.diagnostics import (
     error_code_frequencies,
     error_code_table,
+    failure_code_frequencies,
+    failure_code_table,
     loc_over_blind_run,
     parse_tier_rates,
 )
@@ -55,6 +57,8 @@ __all__ = [
     "build_report",
     "error_code_frequencies",
     "error_code_table",
+    "failure_code_frequencies",
+    "failure_code_table",
     "grouping",
     "latex_document",
     "load",

@@ -23,6 +23,10 @@ EXEC_METRICS = ("exec_success", "S_task", "S_pos", "S_arm", "S_safe", "VLA_total
 NaN for runs that do not execute plans and for backend errors; 0 for an answered episode of an
 executing run whose output held no plan to execute."""
 
+NO_PLAN = "no_plan"
+"""``exec_failure_code`` of an answered episode of an executing run with no plan to execute
+(the other codes are :class:`~vlm_bench.types.execution.FailureCode` values)."""
+
 COLUMNS = (
     "run_id",
     "model",
@@ -40,6 +44,7 @@ COLUMNS = (
     "first_target_visible",
     *EXEC_METRICS,
     "exec_failure",
+    "exec_failure_code",
     "error_tags",
     "latency_s",
     "prompt_tokens",
@@ -51,10 +56,18 @@ COLUMNS = (
 
 def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
     if not executed or not record.ok:
-        return {**dict.fromkeys(EXEC_METRICS, math.nan), "exec_failure": None}
+        return {
+            **dict.fromkeys(EXEC_METRICS, math.nan),
+            "exec_failure": None,
+            "exec_failure_code": None,
+        }
     run = record.execution
     if run is None:
-        return {**dict.fromkeys(EXEC_METRICS, 0.0), "exec_failure": "not executed (no plan)"}
+        return {
+            **dict.fromkeys(EXEC_METRICS, 0.0),
+            "exec_failure": "not executed (no plan)",
+            "exec_failure_code": NO_PLAN,
+        }
     vla = run.scores
     return {
         "exec_success": float(run.exec_success),
@@ -64,6 +77,7 @@ def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
         "S_safe": vla.s_safe if vla else 0.0,
         "VLA_total": vla.total if vla else 0.0,
         "exec_failure": run.failure_reason,
+        "exec_failure_code": None if run.failure_code is None else run.failure_code.value,
     }
 
 

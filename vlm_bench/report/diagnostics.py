@@ -1,4 +1,5 @@
-"""What went wrong, per system: parse tiers, error codes, and S_loc above a ``blind`` run."""
+"""What went wrong, per system: parse tiers, error codes, execution failure codes, and S_loc
+above a ``blind`` run."""
 
 from __future__ import annotations
 
@@ -44,12 +45,33 @@ def error_code_frequencies(frame: pd.DataFrame, by: By = "model") -> pd.DataFram
         One row per system × code seen: ``by`` columns, ``code``, ``count`` (episodes with the
         tag) and ``share`` (percent of the system's answered episodes); codes by falling count.
     """
-    keys = by_columns(by)
     ok = frame[frame["status"] == "ok"]
-    tags = ok.assign(code=ok["error_tags"].fillna("").str.split(",")).explode("code")
-    tags = tags[tags["code"] != ""]
-    counts = tags.groupby([*keys, "code"], sort=False, dropna=False).size().rename("count")
-    totals = ok.groupby(keys, sort=False, dropna=False).size().rename("answered")
+    codes = ok.assign(code=ok["error_tags"].fillna("").str.split(",")).explode("code")
+    return _frequencies(frame, ok, codes, by)
+
+
+def failure_code_frequencies(frame: pd.DataFrame, by: By = "model") -> pd.DataFrame:
+    """How often each execution failure code occurs, per system (runs that execute plans).
+
+    Returns:
+        One row per system × code seen: ``by`` columns, ``code`` (a
+        :class:`~vlm_bench.types.execution.FailureCode` value, or ``no_plan``), ``count`` and
+        ``share`` (percent of the system's answered episodes that were to be executed); codes by
+        falling count.
+    """
+    executed = frame[(frame["status"] == "ok") & frame["exec_success"].notna()]
+    codes = executed.assign(code=executed["exec_failure_code"].fillna(""))
+    return _frequencies(frame, executed, codes, by)
+
+
+def _frequencies(
+    frame: pd.DataFrame, base: pd.DataFrame, codes: pd.DataFrame, by: By
+) -> pd.DataFrame:
+    """Counts of ``codes`` (one row per episode × code) per system, with shares of ``base``."""
+    keys = by_columns(by)
+    codes = codes[codes["code"] != ""]
+    counts = codes.groupby([*keys, "code"], sort=False, dropna=False).size().rename("count")
+    totals = base.groupby(keys, sort=False, dropna=False).size().rename("answered")
     out = counts.reset_index().merge(totals.reset_index(), on=keys)
     out["share"] = 100.0 * out["count"] / out["answered"]
     systems = system_order(frame, keys)
@@ -61,7 +83,16 @@ def error_code_frequencies(frame: pd.DataFrame, by: By = "model") -> pd.DataFram
 def error_code_table(frame: pd.DataFrame, by: By = "model") -> pd.DataFrame:
     """:func:`error_code_frequencies` as systems × codes (share in percent, 0 when absent);
     codes by falling total count."""
-    long = error_code_frequencies(frame, by)
+    return _wide(frame, error_code_frequencies(frame, by), by)
+
+
+def failure_code_table(frame: pd.DataFrame, by: By = "model") -> pd.DataFrame:
+    """:func:`failure_code_frequencies` as systems × codes (share in percent, 0 when absent);
+    codes by falling total count."""
+    return _wide(frame, failure_code_frequencies(frame, by), by)
+
+
+def _wide(frame: pd.DataFrame, long: pd.DataFrame, by: By) -> pd.DataFrame:
     keys = by_columns(by)
     if long.empty:
         return pd.DataFrame(columns=keys)

@@ -18,6 +18,7 @@ from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
 from vlm_bench.report.bootstrap import bootstrap_cis
 from vlm_bench.report.diagnostics import (
     error_code_table,
+    failure_code_table,
     loc_over_blind_run,
     parse_tier_rates,
 )
@@ -128,6 +129,17 @@ def _add_sections(report: Report) -> None:
     )
     report.sections.append(tier_section(parse_tier_rates(frame, by), by))
     report.sections.append(code_section(error_code_table(frame, by), by))
+    failures = failure_code_table(frame, by)
+    if not failures.empty:
+        report.sections.append(
+            code_section(
+                failures,
+                by,
+                "Execution failures",
+                "Percent of executed episodes (answered, in runs that replay plans) whose replay "
+                "failed, by failure code (no_plan: the answer held no plan to execute).",
+            )
+        )
     blind = loc_over_blind_run(frame, "run", first, options.n_boot, options.seed)
     if not blind.empty:
         report.sections.append(

@@ -91,8 +91,14 @@ def tier_section(tiers: pd.DataFrame, by: By) -> Section:
     )
 
 
-def code_section(table: pd.DataFrame, by: By) -> Section:
-    """Error-code shares, one row per code and one column per system (fits narrow screens)."""
+def code_section(
+    table: pd.DataFrame,
+    by: By,
+    title: str = "Error codes",
+    caption: str = "Percent of answered episodes with each error tag (parse codes, planning "
+    "errors).",
+) -> Section:
+    """Code shares, one row per code and one column per system (fits narrow screens)."""
     keys = by_columns(by)
     codes = [c for c in table.columns if c not in keys]
     names = ["/".join(str(r[k]) for k in keys) for r in table.to_dict("records")]
@@ -101,8 +107,7 @@ def code_section(table: pd.DataFrame, by: By) -> Section:
         for code in codes
     ]
     frame = pd.DataFrame(rows, columns=["code", *names])
-    caption = "Percent of answered episodes with each error tag (parse codes, planning errors)."
-    return Section("Error codes", caption, frame, tuple(names))
+    return Section(title, caption, frame, tuple(names))
 
 
 def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
