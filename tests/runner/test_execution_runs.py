@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -128,6 +129,33 @@ def test_an_executor_exception_is_a_recorded_failure(
     assert hop.execution.failure_code is FailureCode.EXECUTOR_CRASH
     assert result.stats.exec_crashes == 1 and len(result.records) == 2
     assert _row(result.summary, "explicit").exec_success == 0.0
+
+
+def test_a_non_finite_execution_number_is_a_recorded_crash(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A NaN or infinity from the simulator never reaches a record (JSON has no form for it, and
+    pydantic would write null, which the record could not be read back from): the replay is a
+    recorded executor crash naming the field, and the run folder reads back."""
+    real = vlm_bench.executor.execute_plan
+
+    def blown_up(*args: object, **kwargs: object) -> object:
+        return real(*args, **kwargs).model_copy(update={"sim_time_s": math.inf})  # type: ignore[arg-type]
+
+    monkeypatch.setattr(vlm_bench.executor, "execute_plan", blown_up)
+    inline = ReplayOptions(workers=0)  # the patch lives in this process only
+    result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), replay=inline)
+    hop = next(r for r in result.records if r.variant == "explicit")
+    assert hop.execution is not None and hop.execution.failure_code is FailureCode.EXECUTOR_CRASH
+    assert "sim_time_s" in (hop.execution.failure_reason or "")
+    assert "finite" in (hop.execution.failure_reason or "")
+    back = sorted(r.key for r in latest_records(tmp_path / "run" / "records.jsonl"))
+    assert back == sorted(r.key for r in result.records)
+    with pytest.raises(ValueError, match="finite"):
+        ExecutionSummary(
+            exec_success=True, steps_ok=True, n_steps_done=1, s_task=100.0,
+            sim_time_s=1.0, wall_time_s=1.0, displacement_total=math.nan,
+        )  # fmt: skip
 
 
 def test_rescore_executes_again(tmp_path: Path) -> None:

@@ -123,10 +123,10 @@ class PlanExecutor:
             result = executor.execute_plan(
                 episode, steps, executor_config(episode, self.uav_noise), self.scene(episode)
             )
+            summary = ExecutionSummary.of(result)  # rejects a non-finite number
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
             self.crashes += 1
             summary = crash_summary(exc, time.perf_counter() - start)
             return summary, summary.failure_reason
-        summary = ExecutionSummary.of(result)
         self._memo[memo_key] = summary
         return summary, None

@@ -18,3 +18,10 @@ class Frozen(BaseModel):
     """Base for immutable data models that reject unknown fields."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class FiniteFrozen(Frozen):
+    """A :class:`Frozen` model whose floats must be finite: what is written to JSON files
+    (records, manifests), where NaN and infinity have no form."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)

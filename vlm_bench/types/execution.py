@@ -12,7 +12,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from vlm_bench.types.base import Frozen
+from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.episode import UavPose
 
 StepStatus = Literal["ok", "failed", "skipped"]
@@ -140,7 +140,7 @@ class ExecutorConfig(Frozen):
     noise_seed: int = Field(default=0, description="Seed of the gust process.")
 
 
-class ArmTrace(Frozen):
+class ArmTrace(FiniteFrozen):
     """What the metrics need from one ARM step (measured, not planned)."""
 
     object: str = Field(description="The step's object id.")
@@ -157,7 +157,7 @@ class ArmTrace(Frozen):
     attempted: bool = Field(default=False, description="The arm moved towards the object.")
 
 
-class StepOutcome(Frozen):
+class StepOutcome(FiniteFrozen):
     """What happened to one plan step."""
 
     index: int = Field(ge=0, description="Step index in the plan (0-based).")
@@ -174,7 +174,7 @@ class StepOutcome(Frozen):
     arm: ArmTrace | None = Field(default=None, description="ARM steps: measurements.")
 
 
-class VlaScores(Frozen):
+class VlaScores(FiniteFrozen):
     """The paper's VLA metrics, each in [0, 100]."""
 
     s_pos: float = Field(ge=0, le=100, description="Base positioning accuracy.")
@@ -184,7 +184,7 @@ class VlaScores(Frozen):
     total: float = Field(ge=0, le=100, description="Weighted total.")
 
 
-class ExecutionResult(Frozen):
+class ExecutionResult(FiniteFrozen):
     """The outcome of replaying one plan."""
 
     steps: tuple[StepOutcome, ...] = Field(description="One outcome per plan step.")
@@ -213,7 +213,7 @@ class ExecutionResult(Frozen):
         return 100.0 * sum(self.goals) / len(self.goals) if self.goals else 0.0
 
 
-class ExecutionSummary(Frozen):
+class ExecutionSummary(FiniteFrozen):
     """The part of an :class:`ExecutionResult` stored in a run record."""
 
     exec_success: bool

@@ -31,7 +31,7 @@ from pydantic import (
 )
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.types.base import Frozen
+from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, View
 from vlm_bench.types.scores import ScoringConfig
@@ -94,11 +94,8 @@ def non_finite_field(value: Any, path: str = "") -> tuple[str, float] | None:
     return None
 
 
-class RunConfig(Frozen):
+class RunConfig(FiniteFrozen):
     """Everything that defines a run: model, episode selection, prompt, decoding, scoring."""
-
-    # Written to manifest.json, where NaN and infinity have no JSON form.
-    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
     model: str = Field(min_length=1, description="Model string: HF id/path, openai/<name>, ...")
     backend_args: dict[str, str] = Field(
