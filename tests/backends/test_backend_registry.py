@@ -18,6 +18,7 @@ from vlm_bench.backends import (
     split_model,
 )
 from vlm_bench.backends.builtin import MockBackend, OracleBackend, RandomBackend
+from vlm_bench.backends.preflight import check_backend
 from vlm_bench.errors import ConfigError, DuplicateNameError, MissingExtraError
 from vlm_bench.registry import Registry
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
@@ -109,6 +110,33 @@ def test_entry_point_backends_are_selected_by_prefix(monkeypatch: pytest.MonkeyP
     assert isinstance(fn, _EchoBackend) and fn.model == "x!"
     with pytest.raises(ConfigError, match="unknown -M argument 'oops'"):
         resolve_backend("echo/m", {"oops": "1"})
+
+
+def test_a_plugin_backends_arguments_are_checked_before_the_run_starts(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """check_backend (what a run calls before writing anything) validates a plug-in class's
+    -M arguments against its Args without building it; a factory's are checked when built."""
+    built: list[str] = []
+
+    def factory(model: str, args: Mapping[str, str]) -> Backend:
+        built.append(model)
+        return _EchoBackend(model, BackendArgs())
+
+    _fresh_registry(
+        monkeypatch,
+        [
+            _FakeEntryPoint("echo", _EchoBackend),
+            _FakeEntryPoint("fn", factory),
+            _FakeEntryPoint("junk", 42),
+        ],
+    )
+    with pytest.raises(ConfigError, match="unknown -M argument 'oops'"):
+        check_backend("echo/m", {"oops": "1"})
+    assert check_backend("echo/m").name == "echo"
+    assert check_backend("fn/m", {"anything": "1"}).name == "fn" and built == []
+    with pytest.raises(ConfigError, match="must be a Backend subclass"):
+        check_backend("junk/m")
 
 
 def test_duplicate_entry_point_names_are_errors(monkeypatch: pytest.MonkeyPatch) -> None:

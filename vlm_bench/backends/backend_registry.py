@@ -39,6 +39,8 @@ class BackendEntry:
     takes_model: bool
     """Selected by ``<name>/<model>`` (True) or only by the bare name (False)."""
     description: str
+    plugin: Callable[[], object] | None = None
+    """A plug-in's entry point loader (its target: a Backend subclass or a factory)."""
 
 
 def _lazy(module: str, cls: str) -> BackendFactory:
@@ -71,19 +73,40 @@ _BUILTINS = frozenset(BACKENDS.names())
 _plugins_loaded = False
 
 
+def plugin_backend_class(name: str) -> type[Backend] | None:
+    """The Backend subclass of the plug-in registered as ``name`` (its module imported, nothing
+    built); None for a built-in or a plug-in that is a factory function.
+
+    Raises:
+        ConfigError: The plug-in's target is neither a Backend subclass nor a factory.
+    """
+    plugin = BACKENDS.get(name).plugin
+    if plugin is None:
+        return None
+    target = plugin()
+    if isinstance(target, type) and issubclass(target, Backend):
+        return target
+    if callable(target):
+        return None
+    raise _not_a_backend(name)
+
+
+def _not_a_backend(name: str) -> ConfigError:
+    return ConfigError(
+        f"entry point {name!r} ({BACKENDS.get(name).description}) must be a Backend subclass or "
+        "a factory (model, args) -> Backend"
+    )
+
+
 def _plugin_factory(ep: EntryPoint) -> BackendFactory:
     def create(model: str, args: Mapping[str, str]) -> Backend:
-        target = ep.load()
-        if isinstance(target, type) and issubclass(target, Backend):
-            return target.from_args(model, args)
-        if callable(target):
-            backend = target(model, args)
-            if isinstance(backend, Backend):
-                return backend
-        raise ConfigError(
-            f"entry point {ep.name!r} ({ep.value}) must be a Backend subclass or a factory "
-            "(model, args) -> Backend"
-        )
+        cls = plugin_backend_class(ep.name)
+        if cls is not None:
+            return cls.from_args(model, args)
+        backend = ep.load()(model, args)
+        if isinstance(backend, Backend):
+            return backend
+        raise _not_a_backend(ep.name)
 
     return create
 
@@ -99,7 +122,8 @@ def load_plugins() -> None:
         return
     _plugins_loaded = True
     for ep in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: (e.name, e.value)):
-        BACKENDS.add(ep.name, BackendEntry(_plugin_factory(ep), True, f"plug-in {ep.value}"))
+        entry = BackendEntry(_plugin_factory(ep), True, f"plug-in {ep.value}", ep.load)
+        BACKENDS.add(ep.name, entry)
 
 
 def card_for(model: str) -> ModelCard | None:

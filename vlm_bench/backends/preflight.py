@@ -15,7 +15,12 @@ from importlib import import_module
 from importlib.util import find_spec
 
 from vlm_bench.backends.backend import Backend, parse_args
-from vlm_bench.backends.backend_registry import BACKENDS, card_for, split_model
+from vlm_bench.backends.backend_registry import (
+    BACKENDS,
+    card_for,
+    plugin_backend_class,
+    split_model,
+)
 from vlm_bench.backends.model_source import check_model_source
 from vlm_bench.errors import ConfigError, MissingExtraError
 
@@ -68,6 +73,13 @@ def _require_finite(backend: str, args: object) -> None:
             )
 
 
+def _check_plugin_args(name: str, raw: Mapping[str, str]) -> None:
+    """Validate a plug-in backend's ``-M`` arguments against its ``Args`` (no model built)."""
+    cls = plugin_backend_class(name)
+    if cls is not None:
+        _require_finite(name, parse_args(cls.name, cls.Args, raw))
+
+
 def _backend_class(name: str) -> type[Backend]:
     module, cls, _, _ = _MODEL_BACKENDS[name]
     found: type[Backend] = getattr(import_module(f"vlm_bench.backends.{module}"), cls)
@@ -82,7 +94,8 @@ def check_backend(
     Builds the weightless built-ins outright; for ``hf``, ``vllm`` and ``openai`` checks that
     the extra is installed, validates the ``-M`` arguments (finite numbers only) and, for
     ``hf``/``vllm``, that the model is a local folder or a Hugging Face id the cache or the
-    hub knows. Plug-ins are checked when they are built.
+    hub knows. A plug-in's module is imported and, where it is a Backend subclass, its ``-M``
+    arguments validated against its ``Args`` (a factory function's are checked when it builds).
 
     Args:
         model: The model string (``--model``).
@@ -100,6 +113,7 @@ def check_backend(
         BACKENDS.get(name).factory(model_name, raw).close()
         return BackendCheck(name, model_name, loads_model=False)
     if name not in _MODEL_BACKENDS:
+        _check_plugin_args(name, raw)
         return BackendCheck(name, model_name, loads_model_in_process(name))
     _, _, requires, extra = _MODEL_BACKENDS[name]
     if any(find_spec(module) is None for module in requires):
