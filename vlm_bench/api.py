@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
     from vlm_bench.backends import Backend
     from vlm_bench.runner import PipelineStats
-    from vlm_bench.runner.replay import Replay
+    from vlm_bench.runner.single_replay import Replay
 
 __all__ = [
     "RunConfig",
@@ -212,14 +212,14 @@ def replay(
         shadows: Render the video with shadows (2–3× slower per frame on a CPU).
 
     Returns:
-        The :class:`~vlm_bench.runner.replay.Replay`: the plan, the
+        The :class:`~vlm_bench.runner.single_replay.Replay`: the plan, the
         :class:`~vlm_bench.types.execution.ExecutionResult`, goal labels and the video path.
 
     Raises:
         ConfigError: An invalid plan (names the step) or option. UnknownNameError: Unknown task
         or camera. MissingExtraError: MP4 without imageio-ffmpeg.
     """
-    from vlm_bench.runner.replay import VideoOptions, replay_plan
+    from vlm_bench.runner.single_replay import VideoOptions, replay_plan
 
     options = VideoOptions(Path(video), camera, fps, size, shadows) if video is not None else None
     return replay_plan(

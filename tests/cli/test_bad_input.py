@@ -294,7 +294,7 @@ def test_a_non_utf8_skill_file_through_the_cli(cli: Cli, tmp_path: Path) -> None
 def test_execute_checks_the_video_folder_before_simulating(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import vlm_bench.runner.replay as replay_module
+    import vlm_bench.runner.single_replay as replay_module
 
     def never(*args: object, **kwargs: object) -> None:
         raise AssertionError("simulated before the video path was checked")

@@ -17,7 +17,7 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.report import EXEC_VALUES, SUMMARY_COLUMNS
 from vlm_bench.runner import PlanExecutor, episode_noise_seed, record_plan
-from vlm_bench.runner.execution import CRASH_PREFIX, executor_config
+from vlm_bench.runner.plan_executor import CRASH_PREFIX, executor_config
 from vlm_bench.storage import ConfigMismatchError, latest_records
 from vlm_bench.types.execution import ExecutionSummary, FailureCode, ReplayOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
@@ -237,7 +237,7 @@ def test_only_usable_nonempty_plans_are_executed() -> None:
 
 def test_the_same_plan_on_the_same_episode_is_executed_once() -> None:
     from vlm_bench.episodes import make_episode
-    from vlm_bench.runner.execution import PlanExecutor
+    from vlm_bench.runner.plan_executor import PlanExecutor
     from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
     episode = make_episode("standard_pick_place", 0)

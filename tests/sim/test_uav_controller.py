@@ -13,7 +13,7 @@ import pytest
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.plan_replay import episode_scene
-from vlm_bench.runner.execution import executor_config
+from vlm_bench.runner.plan_executor import executor_config
 from vlm_bench.sim.uav_control import GustConfig, UavController
 
 

@@ -14,7 +14,7 @@ from vlm_bench.cli.options import finite, parse_seed, parse_variant, writable_fi
 from vlm_bench.errors import ConfigError
 
 if TYPE_CHECKING:
-    from vlm_bench.runner.replay import Replay
+    from vlm_bench.runner.single_replay import Replay
     from vlm_bench.types.plan import ArmStep, UavStep
 
 console = Console()

@@ -23,7 +23,7 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from vlm_bench.runner.execution import PlanExecutor, crash_summary, record_plan
+from vlm_bench.runner.plan_executor import PlanExecutor, crash_summary, record_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json

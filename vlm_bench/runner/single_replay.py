@@ -14,7 +14,7 @@ from pathlib import Path
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.parsing import parse_plan
-from vlm_bench.runner.execution import PlanExecutor, executor_config
+from vlm_bench.runner.plan_executor import PlanExecutor, executor_config
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult
 from vlm_bench.types.plan import ArmStep, UavStep
