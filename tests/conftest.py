@@ -1,10 +1,65 @@
-"""Shared test setup: headless rendering, golden-update flag."""
+"""Shared test setup: headless rendering, golden-update flag, and the CLI (in this process
+through Typer's runner, or as the real console entry point in a subprocess: exit codes,
+one-line errors on stderr)."""
 
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import Result
+from typer.testing import CliRunner
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 os.environ.setdefault("HF_HUB_OFFLINE", "1")
 
 UPDATE_GOLDEN = os.environ.get("VLM_BENCH_UPDATE_GOLDEN") == "1"
+ROOT = Path(__file__).resolve().parents[1]
+
+
+class Cli:
+    """``vlm-bench`` with every command registered."""
+
+    def __init__(self) -> None:
+        from vlm_bench.cli.main import _register, app
+
+        _register()
+        self.app = app
+
+    def invoke(self, *args: str) -> str:
+        """Run a command in this process; it must exit 0. Returns its output."""
+        result = CliRunner().invoke(self.app, list(args), catch_exceptions=False)
+        assert result.exit_code == 0, result.output
+        return result.output
+
+    def result(self, *args: str) -> Result:
+        """Run a command in this process; its exception, if any, is kept in the result."""
+        return CliRunner().invoke(self.app, list(args))
+
+    def run(
+        self,
+        *args: str,
+        cwd: Path = ROOT,
+        env: dict[str, str] | None = None,
+        timeout: float = 120,
+    ) -> subprocess.CompletedProcess[str]:
+        """Run the real console entry point in a subprocess."""
+        code = "from vlm_bench.cli.main import main; main()"
+        return subprocess.run(
+            [sys.executable, "-c", code, *args],
+            capture_output=True,
+            text=True,
+            cwd=cwd,
+            env=env,
+            timeout=timeout,
+            check=False,
+        )
+
+
+@pytest.fixture
+def cli() -> Cli:
+    """The CLI, to invoke in process or run as a subprocess."""
+    return Cli()

@@ -9,7 +9,7 @@ import subprocess
 import sys
 import types
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
@@ -29,6 +29,9 @@ from vlm_bench.errors import ConfigError, DataFileError
 from vlm_bench.resources import models_dir
 from vlm_bench.types.model_card import ModelCard
 
+if TYPE_CHECKING:
+    from tests.conftest import Cli
+
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = {
     "Qwen3-VL-8B-Instruct",
@@ -38,18 +41,6 @@ PAPER = {
     "LLaVA-OneVision-Qwen2-7B-OV",
     "Molmo-7B-D-0924",
 }
-
-
-def _cli(*args: str) -> subprocess.CompletedProcess[str]:
-    code = "from vlm_bench.cli.main import main; main()"
-    return subprocess.run(
-        [sys.executable, "-c", code, *args],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=120,
-        check=False,
-    )
 
 
 def test_the_paper_models_have_cards() -> None:
@@ -142,27 +133,27 @@ def test_models_command_lists_backends_and_cards_without_torch() -> None:
     assert "HEAVY []" in out
 
 
-def test_models_command_prints_a_cards_recipe() -> None:
-    shown = _cli("models", "qwen2.5-vl-7b")
+def test_models_command_prints_a_cards_recipe(cli: Cli) -> None:
+    shown = cli.run("models", "qwen2.5-vl-7b")
     assert shown.returncode == 0, shown.stderr
     flat = " ".join(shown.stdout.split())
     card = model_cards()["qwen2.5-vl-7b"]
     for line in recipe_lines(card).values():
         assert line in flat
-    as_json = json.loads(_cli("models", "qwen2.5-vl-7b", "--json").stdout)
+    as_json = json.loads(cli.run("models", "qwen2.5-vl-7b", "--json").stdout)
     assert as_json["hub_id"] == card.hub_id and set(as_json["commands"]) == set(recipe_lines(card))
-    missing = _cli("models", "qwen9")
+    missing = cli.run("models", "qwen9")
     assert missing.returncode == 2 and missing.stderr.count("\n") == 1
     assert "unknown model card 'qwen9'" in missing.stderr
 
 
-def test_a_run_against_a_down_server_stops_with_the_cause(tmp_path: Path) -> None:
+def test_a_run_against_a_down_server_stops_with_the_cause(tmp_path: Path, cli: Cli) -> None:
     import socket
 
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         url = f"http://127.0.0.1:{sock.getsockname()[1]}/v1"
-    done = _cli(
+    done = cli.run(
         "run",
         "--model",
         "openai/m",

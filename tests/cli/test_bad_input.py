@@ -30,7 +30,7 @@ from vlm_bench.types.skill import SkillSpec
 from vlm_bench.types.task import TaskSpec
 
 if TYPE_CHECKING:
-    from tests.cli.conftest import Cli
+    from tests.conftest import Cli
 
 ROOT = Path(__file__).resolve().parents[2]
 TASK = "standard_pick_place"

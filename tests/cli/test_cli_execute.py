@@ -15,7 +15,7 @@ from vlm_bench.storage import latest_records
 from vlm_bench.types.execution import ExecutionResult
 
 if TYPE_CHECKING:
-    from tests.cli.conftest import Cli
+    from tests.conftest import Cli
 
 ROOT = Path(__file__).resolve().parents[2]
 TASK = "standard_pick_place"

@@ -18,7 +18,7 @@ from vlm_bench.storage import latest_records
 from vlm_bench.types.plan import UavStep, plan_to_json
 
 if TYPE_CHECKING:
-    from tests.cli.conftest import Cli
+    from tests.conftest import Cli
 
 ROOT = Path(__file__).resolve().parents[2]
 FEW = ("standard_pick_place", "target_color_yellow", "synonym_block_bin", "tower_stacking")

@@ -4,38 +4,26 @@ from __future__ import annotations
 
 import importlib.util
 import io
-import subprocess
-import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 import pytest
-import typer
-from typer.testing import CliRunner
 
-ROOT = Path(__file__).resolve().parents[2]
-
-
-def _app() -> typer.Typer:
-    from vlm_bench.cli.main import _register, app
-
-    if not any(getattr(c.callback, "__name__", "") == "report" for c in app.registered_commands):
-        _register()
-    return app
+if TYPE_CHECKING:
+    from tests.conftest import Cli
 
 
-def _report(*args: str) -> str:
-    result = CliRunner().invoke(_app(), ["report", *args], catch_exceptions=False)
-    assert result.exit_code == 0, result.output
-    return result.output
+def _report(cli: Cli, *args: str) -> str:
+    return cli.invoke("report", *args)
 
 
 def _runs(real_runs: dict[str, Path]) -> list[str]:
     return [str(real_runs[m]) for m in ("oracle", "random", "mock")]
 
 
-def test_terminal_table_in_both_groupings(real_runs: dict[str, Path]) -> None:
-    out = _report(*_runs(real_runs), "--paired", "random", "--n-boot", "300")
+def test_terminal_table_in_both_groupings(cli: Cli, real_runs: dict[str, Path]) -> None:
+    out = _report(cli, *_runs(real_runs), "--paired", "random", "--n-boot", "300")
     assert "Our four suites" in out and "The paper's three columns" in out
     assert "Overall with confidence intervals" in out and "Parse tiers" in out
     assert "Paired comparison with random" in out and "no_json" in out
@@ -43,12 +31,12 @@ def test_terminal_table_in_both_groupings(real_runs: dict[str, Path]) -> None:
         assert model in out
 
 
-def test_markdown_csv_and_by_columns(real_runs: dict[str, Path], tmp_path: Path) -> None:
-    md = _report(*_runs(real_runs), "-f", "markdown", "--n-boot", "200")
+def test_markdown_csv_and_by_columns(cli: Cli, real_runs: dict[str, Path], tmp_path: Path) -> None:
+    md = _report(cli, *_runs(real_runs), "-f", "markdown", "--n-boot", "200")
     assert md.startswith("# vlm-bench report")
     assert "| oracle | both | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 |" in md
     assert "BM = Base Manipulation, DI = Distractor Interference" in md
-    csv = _report(*_runs(real_runs), "-f", "csv", "--grouping", "paper", "--n-boot", "200")
+    csv = _report(cli, *_runs(real_runs), "-f", "csv", "--grouping", "paper", "--n-boot", "200")
     table = pd.read_csv(io.StringIO(csv))
     assert set(table.grouping) == {"paper"} and {"S_total_lo", "S_total_hi"} <= set(table.columns)
     oracle = table[(table.model == "oracle") & (table.group == "overall")]
@@ -57,13 +45,15 @@ def test_markdown_csv_and_by_columns(real_runs: dict[str, Path], tmp_path: Path)
         (table.model == "mock") & (table.group == "overall") & (table.instruction == "both")
     ]
     assert mock.iloc[0].n_error == 2  # the scripted timeouts
-    by = _report(*_runs(real_runs), "-f", "csv", "--by", "backend,resolution", "--no-stats")
+    by = _report(cli, *_runs(real_runs), "-f", "csv", "--by", "backend,resolution", "--no-stats")
     assert {"backend", "resolution"} <= set(pd.read_csv(io.StringIO(by)).columns)
 
 
-def test_latex_parquet_episodes_and_sorting(real_runs: dict[str, Path], tmp_path: Path) -> None:
+def test_latex_parquet_episodes_and_sorting(
+    cli: Cli, real_runs: dict[str, Path], tmp_path: Path
+) -> None:
     tex = tmp_path / "table.tex"
-    _report(*_runs(real_runs), "-f", "latex", "--out", str(tex), "--sort", "total")
+    _report(cli, *_runs(real_runs), "-f", "latex", "--out", str(tex), "--sort", "total")
     text = tex.read_text()
     assert text.count(r"\begin{table*}") == 2 and r"\toprule" in text
     blocks = [
@@ -73,29 +63,23 @@ def test_latex_parquet_episodes_and_sorting(real_runs: dict[str, Path], tmp_path
     if importlib.util.find_spec("pyarrow") is None:
         pytest.skip("pyarrow is not installed (pip install 'vlm-bench[report]')")
     pq = tmp_path / "table.parquet"
-    _report(*_runs(real_runs), "-f", "parquet", "--out", str(pq), "--no-stats",
+    _report(cli, *_runs(real_runs), "-f", "parquet", "--out", str(pq), "--no-stats",
             "--episodes", str(tmp_path / "episodes.parquet"))  # fmt: skip
     assert set(pd.read_parquet(pq).grouping) == {"suites", "paper"}
     episodes = pd.read_parquet(tmp_path / "episodes.parquet")
     assert len(episodes) == 24 and set(episodes.run) == {"oracle", "random", "mock"}
 
 
-def test_plots_are_written(real_runs: dict[str, Path], tmp_path: Path) -> None:
+def test_plots_are_written(cli: Cli, real_runs: dict[str, Path], tmp_path: Path) -> None:
     pytest.importorskip("matplotlib")
     from PIL import Image
 
-    _report(*_runs(real_runs), "--plots", str(tmp_path / "plots"), "--no-stats", "--n-boot", "200")
+    _report(
+        cli, *_runs(real_runs), "--plots", str(tmp_path / "plots"), "--no-stats", "--n-boot", "200"
+    )
     for name in ("metrics.png", "radar.png", "loc_by_direction.png"):
         with Image.open(tmp_path / "plots" / name) as image:
             assert image.width > 500 and len(image.getcolors(100_000) or []) > 20
-
-
-def _cli(*args: str) -> subprocess.CompletedProcess[str]:
-    code = "from vlm_bench.cli.main import main; main()"
-    return subprocess.run(
-        [sys.executable, "-c", code, "report", *args],
-        capture_output=True, text=True, cwd=ROOT, timeout=120, check=False,
-    )  # fmt: skip
 
 
 @pytest.mark.parametrize(
@@ -110,9 +94,9 @@ def _cli(*args: str) -> subprocess.CompletedProcess[str]:
     ],
 )
 def test_bad_inputs_are_one_line_errors(
-    real_runs: dict[str, Path], args: list[str], message: str
+    cli: Cli, real_runs: dict[str, Path], args: list[str], message: str
 ) -> None:
-    done = _cli(*(a.format(oracle=real_runs["oracle"]) for a in args))
+    done = cli.run("report", *(a.format(oracle=real_runs["oracle"]) for a in args))
     assert done.returncode == 2, done.stdout + done.stderr
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], lines
@@ -120,7 +104,7 @@ def test_bad_inputs_are_one_line_errors(
 
 
 def test_nothing_is_written_before_every_check_passed(
-    real_runs: dict[str, Path], tmp_path: Path
+    cli: Cli, real_runs: dict[str, Path], tmp_path: Path
 ) -> None:
     outputs = [
         "--out",
@@ -132,8 +116,7 @@ def test_nothing_is_written_before_every_check_passed(
         "--episodes",
         str(tmp_path / "e.csv"),
     ]
-    result = CliRunner().invoke(
-        _app(), ["report", str(real_runs["oracle"]), "-f", "markdown", "--by", "nope", *outputs]
-    )  # fmt: skip
+    result = cli.result("report", str(real_runs["oracle"]), "-f", "markdown", "--by", "nope",
+                          *outputs)  # fmt: skip
     assert result.exit_code != 0 and "nope" in str(result.exception)
     assert list(tmp_path.iterdir()) == []
