@@ -1,4 +1,4 @@
-"""Wrong plans fail for the right reason, and grasps are physical (SPEC §7).
+"""Wrong plans fail for the right reason, and grasps are physical (docs/design.md#executor).
 
 All cases perturb the GT plan of ``color_distractor_green`` seed 0 (``right``, pick green_cube,
 place yellow_basket), whose GT replay succeeds.

@@ -1,4 +1,4 @@
-"""Oracle ceiling (SPEC §7): every GT plan must succeed in the simulator.
+"""Oracle ceiling (docs/design.md#oracle-ceiling): every GT plan must succeed in the simulator.
 
 CI replays seed 0 of all 60 tasks; seeds 1-9 are ``slow`` (``pytest -m slow``). Episodes the
 executor cannot finish yet are listed in ``KNOWN_FAILURES`` (task, seed) with the reason observed

@@ -1,4 +1,4 @@
-"""Episode = task × seed: layout, UAV start, lighting, GT plan (SPEC §3).
+"""Episode = task × seed: layout, UAV start, lighting, GT plan (docs/design.md#episodes).
 
 Seed 0 is the canonical layout (objects exactly as in the task file); other seeds jitter movable
 objects. Every seed places the UAV start at a different bearing/heading/distance so that at least

@@ -1,4 +1,5 @@
-"""Skill executor (SPEC §7): replays validated plans in the simulator and checks goals.
+"""Skill executor (docs/design.md#executor): replays validated plans in the simulator and
+checks goals.
 
 The wing is laid out by concept, each layer importing only those before it:
 

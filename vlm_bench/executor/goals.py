@@ -1,4 +1,4 @@
-"""Goal predicates on a simulated state (SPEC §7), checked after the scene has settled.
+"""Goal predicates on a simulated state (docs/design.md#goals), checked after the scene has settled.
 
 Objects are measured by their solid geoms: the centre of their world bounding box and its bottom.
 A target's footprint is its catalogue box (x, y) in its own yawed frame; a drawer's is the

@@ -19,9 +19,9 @@ METRICS = ("S_plan", "S_loc", "S_obj", "S_skill", "S_total")
 """Score columns, in the paper's order (Plan, Loc, Obj, Skill, Tot); Succ follows."""
 
 EXEC_METRICS = ("exec_success", "S_task", "S_pos", "S_arm", "S_safe", "VLA_total")
-"""Execution columns (SPEC §7): success (1/0), sub-goal completion and the paper's VLA metrics.
-NaN for runs that do not execute plans and for backend errors; 0 for an answered episode of an
-executing run whose output held no plan to execute."""
+"""Execution columns (docs/design.md#execution-metrics): success (1/0), sub-goal completion
+and the paper's VLA metrics. NaN for runs that do not execute plans and for backend errors; 0
+for an answered episode of an executing run whose output held no plan to execute."""
 
 NO_PLAN = "no_plan"
 """``exec_failure_code`` of an answered episode of an executing run with no plan to execute

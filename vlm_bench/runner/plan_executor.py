@@ -1,4 +1,4 @@
-"""Replay the plans of a run's records in the simulator (runs and rescore; SPEC §7–§8).
+"""Replay the plans of a run's records in the simulator (runs and rescore; docs/design.md#runs).
 
 The executable plan of a record is its parse's valid steps (what ``record.plan`` holds); an
 output with no usable plan is not executed (``execution`` stays None and the episode counts as

@@ -1,4 +1,4 @@
-"""Plan replays off the generation path (SPEC §7–§8): records' plans execute in a pool of
+"""Plan replays off the generation path (docs/design.md#runs): records' plans execute in a pool of
 worker processes (or on a Ray cluster, :mod:`vlm_bench.runner.replays_ray`) while the backend
 generates the next batches.
 

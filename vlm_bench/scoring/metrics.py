@@ -1,4 +1,4 @@
-"""The AIR-VLA planning metrics (SPEC §6, paper Appendix A.3) for one episode.
+"""The AIR-VLA planning metrics (docs/design.md#metrics, paper Appendix A.3) for one episode.
 
 Documented choices where the paper is open:
 
@@ -30,7 +30,7 @@ Documented choices where the paper is open:
   direction, ``neighbour_credit`` (40) for sectors 45° apart (``frontright``↔``front`` wraps),
   else 0; ``up``/``down`` only match themselves.
 * A GT with no UAV step / no object reference / no ARM step: see :class:`EmptyGtPolicy`.
-* An output with no usable plan scores 0 everywhere (SPEC), whatever the policy.
+* An output with no usable plan scores 0 everywhere (docs/design.md#metrics), whatever the policy.
 """
 
 from __future__ import annotations
@@ -204,7 +204,7 @@ def is_success(steps: Sequence[ParsedStep], gt: GtPlan) -> bool:
 def score_plan(
     parsed: ParseResult, gt: GtPlan, config: ScoringConfig = DEFAULT_SCORING
 ) -> PlanScores:
-    """Score a parsed plan against the GT plan (SPEC §6).
+    """Score a parsed plan against the GT plan (docs/design.md#metrics).
 
     Args:
         parsed: The parser's result for the model output.

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-# Timing (SPEC §7): physics at 500 Hz, control at 20 Hz.
+# Timing (docs/design.md#executor): physics at 500 Hz, control at 20 Hz.
 PHYSICS_DT = 0.002
 SLEEP = True
 """MuJoCo's sleeping islands: bodies at rest (objects on tables) stop being simulated until
 something touches them, ~2-3x fewer contacts and a faster step (the robot, actuated, stays
-awake). Validated by the oracle sweep (see README, Performance)."""
+awake). Validated by the oracle sweep (see docs/performance.md)."""
 CONTROL_DT = 0.05
 STEPS_PER_CONTROL = round(CONTROL_DT / PHYSICS_DT)
 
@@ -43,7 +43,7 @@ GRIPPER_CLOSED = 0.0  # finger joint position (m) when fully closed
 # forward and ~31° down; no arm link appears in the `uav` camera's image and nothing touches.
 ARM_OBSERVE = (1.4484, 0.3484, 2.6925, -3.0662, 1.0110, 1.2698, 1.1909)
 
-# Cameras (stable names, SPEC §2).
+# Cameras (stable names, docs/design.md#world).
 CAM_UAV = "uav"
 CAM_WRIST = "wrist"
 CAM_OVERHEAD = "overhead"

@@ -1,4 +1,4 @@
-"""Environment variants: floor, walls, sky, lights and decorative props (SPEC §2).
+"""Environment variants: floor, walls, sky, lights and decorative props (docs/design.md#world).
 
 ``add_environment`` dresses an ``MjSpec`` world as one of the catalogue's variants. Everything it
 adds is static: the floor plane (named ``FLOOR_GEOM``) collides; walls (``wall/...``) and props

@@ -1,7 +1,7 @@
 """Materials and procedural textures for MjSpec scenes (deduplicated by name).
 
-Gotcha (SPEC §2): never pass ``textures=[...]`` to ``add_material`` and then delete anything;
-set ``mat.textures[mjTEXROLE_RGB]`` instead.
+Gotcha (docs/design.md#simulator-notes): never pass ``textures=[...]`` to ``add_material`` and
+then delete anything; set ``mat.textures[mjTEXROLE_RGB]`` instead.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Plan execution in the simulator (SPEC §7): settings, per-step outcomes, the run's summary.
+"""Plan execution in the simulator (docs/design.md#execution-metrics): settings, per-step
+outcomes, the run's summary.
 
 These models cross the executor → runner → storage boundary (a record carries an
 :class:`ExecutionSummary`), so they live in the types layer.
@@ -93,9 +94,9 @@ class FlightConfig(Frozen):
 class VlaMetricConfig(Frozen):
     """Constants of the paper's VLA metrics (Appendix A.3).
 
-    The SPEC fixes the UAV range (0.5–0.8 m, peak 0.65 m) and the safety kernel (full at
+    The paper fixes the UAV range (0.5–0.8 m, peak 0.65 m) and the safety kernel (full at
     ≤ 0.01 m, σ = 2/3 m, 0 at ≥ 2 m); the paper leaves λ, σ_pos, β, σ_arm and d_thresh open,
-    so the values here are ours and documented in the README.
+    so the values here are ours and documented in docs/design.md#execution-metrics.
     """
 
     pos_mu: float = Field(default=0.65, description="Ideal arm-base distance to the object (m).")

@@ -13,7 +13,7 @@ from vlm_bench.types.task import InstructionVariant
 from vlm_bench.types.world import SNAKE
 
 View = Literal["uav", "wrist", "overhead", "side"]
-"""Camera names (the simulator's stable camera names, SPEC §2)."""
+"""Camera names (the simulator's stable camera names, docs/design.md#world)."""
 
 VIEWS: tuple[View, ...] = ("uav", "wrist", "overhead", "side")
 """All views, in the order the paper lists them (first-person first)."""

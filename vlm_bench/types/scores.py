@@ -48,7 +48,7 @@ class ScoreWeights(Frozen):
 
 
 class ScoringConfig(Frozen):
-    """The open choices of the metrics (SPEC §6); defaults follow the paper except
+    """The open choices of the metrics (docs/design.md#metrics); defaults follow the paper except
     ``loc_alignment``, whose default ``segment`` replaces the paper's literal order pairing.
 
     ``loc_alignment`` was added after the first release. A run manifest written before it

@@ -1,4 +1,5 @@
-"""A gymnasium environment of one benchmark task for VLA pipelines (SPEC §7, hierarchical use).
+"""A gymnasium environment of one benchmark task for VLA pipelines
+(docs/design.md#hierarchical-use).
 
 Each :meth:`~AerialManipulationEnv.step` applies the 12-D :class:`VlaAction` (4 UAV setpoint
 deltas, 7 joint targets, gripper) for one 50 ms control period. The observation is a dict of the

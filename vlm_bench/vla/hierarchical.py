@@ -1,4 +1,5 @@
-"""Hierarchical VLM+VLA use (SPEC §7): a plan whose ARM steps a user policy drives.
+"""Hierarchical VLM+VLA use (docs/design.md#hierarchical-use): a plan whose ARM steps a user
+policy drives.
 
 The planner's UAV ``move`` steps are flown by the executor; during every ARM step the policy is
 called once per 50 ms control step (20 Hz) with a :class:`VlaObservation` and returns a

@@ -1,4 +1,4 @@
-"""UAV ``move`` steps (SPEC §7): where a move stops, and flying it with the arm stowed.
+"""UAV ``move`` steps (docs/design.md#moves): where a move stops, and flying it with the arm stowed.
 
 Stopping rule, shared with the ground truth through :func:`~vlm_bench.rules.move_stop`:
 

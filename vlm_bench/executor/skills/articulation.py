@@ -3,11 +3,11 @@
 Drawers: the open hand approaches the bar handle from the front (approach axis into the
 drawer, fingers closing vertically around the bar), closes on it, and slides it along the
 drawer's axis — by the arm where it reaches, then by the UAV carrying the hand the rest of the
-way — before letting go, backing off and flying back. ``pull`` opens to ``PULL_TO`` (SPEC §7:
-≥ 0.35 m), ``close`` pushes home.
+way — before letting go, backing off and flying back. ``pull`` opens to ``PULL_TO``
+(docs/design.md#arm-skills: ≥ 0.35 m), ``close`` pushes home.
 
 Knobs: a top-down grasp of the knob's grip, then the hand turns about the vertical by
-``TURN_DEG`` (SPEC §7: ≥ 90°) with the TCP kept in place, and lets go.
+``TURN_DEG`` (docs/design.md#arm-skills: ≥ 90°) with the TCP kept in place, and lets go.
 
 Each succeeds only if the part really moved that far (its joint is read from the simulation).
 """
@@ -39,12 +39,12 @@ from vlm_bench.types.episode import Episode, PartRef
 from vlm_bench.types.execution import FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep
 
-PULL_TO = 0.38  # m: drawer opening a pull aims for (travel 0.40; SPEC ≥ 0.35)
+PULL_TO = 0.38  # m: drawer opening a pull aims for (travel 0.40; docs/design.md#arm-skills: ≥ 0.35)
 PULL_MIN = 0.35  # m: a pull counts from this opening
 CLOSED_MAX = 0.02  # m: a close counts below this opening
 PRE_HANDLE = 0.10  # m in front of the handle where the straight approach starts
 SLIDE_SPEED = 0.10  # m/s
-TURN_DEG = 115.0  # knob turn commanded (SPEC ≥ 90°; the grip slips 10-16° of it)
+TURN_DEG = 115.0  # knob turn commanded (design.md#arm-skills: ≥ 90°; the grip slips 10-16°)
 TURN_MIN_DEG = 90.0
 KNOB_GRIP_DEPTH = 0.022  # m below the knob's top where the fingers hold it
 TURN_S = 3.0  # s for the turn

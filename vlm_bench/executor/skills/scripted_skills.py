@@ -10,7 +10,8 @@ from vlm_bench.executor.skills.pushing import push_skills
 
 
 def default_skills(loop: SimLoop) -> dict[str, ArmSkill]:
-    """The scripted skills of SPEC §7 for ``loop`` (they share one hand and what it holds)."""
+    """The scripted skills (docs/design.md#arm-skills) for ``loop`` (they share one hand and
+    what it holds)."""
     hand = Hand(loop)
     return {
         **grasp_skills(loop, hand),
