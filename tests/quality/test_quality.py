@@ -1,4 +1,5 @@
-"""Static quality gates run by the test suite: ruff, mypy --strict, import-linter layers."""
+"""Static quality gates run by the test suite: ruff (lint and format), mypy --strict,
+import-linter layers."""
 
 from __future__ import annotations
 
@@ -25,6 +26,12 @@ def _tool(name: str) -> str:
 
 def test_ruff_clean() -> None:
     result = _run(_tool("ruff"), "check", "vlm_bench", "tests", "benchmarks")
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_ruff_formatted() -> None:
+    """``ruff format`` leaves the code as it is (the style is the formatter's, not a debate)."""
+    result = _run(_tool("ruff"), "format", "--check", "vlm_bench", "tests", "benchmarks")
     assert result.returncode == 0, result.stdout + result.stderr
 
 

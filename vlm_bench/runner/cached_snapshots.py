@@ -34,8 +34,11 @@ def renderer_digest() -> str:
     except metadata.PackageNotFoundError:
         mujoco_version = "?"
     world = ground_truth_dir() / "world.json"
-    parts = [folder_digest(_SIM_PACKAGE), mujoco_version,
-             hashlib.sha256(world.read_bytes()).hexdigest() if world.exists() else ""]
+    parts = [
+        folder_digest(_SIM_PACKAGE),
+        mujoco_version,
+        hashlib.sha256(world.read_bytes()).hexdigest() if world.exists() else "",
+    ]
     return hashlib.sha256("|".join(parts).encode()).hexdigest()
 
 
@@ -49,7 +52,10 @@ class SnapshotSource:
     """PNG snapshots per episode: from the cache, else rendered (one reused GL context)."""
 
     def __init__(
-        self, views: Sequence[str], size: int, labels: bool = True,
+        self,
+        views: Sequence[str],
+        size: int,
+        labels: bool = True,
         cache: SnapshotCache | None = None,
     ) -> None:
         self.views = list(views)
@@ -89,8 +95,9 @@ class SnapshotSource:
         if self._renderer is None:
             self._renderer = SnapshotRenderer()
         self.rendered += 1
-        images = render_episode(episode, views, self.size, labels=self.labels,
-                                renderer=self._renderer)
+        images = render_episode(
+            episode, views, self.size, labels=self.labels, renderer=self._renderer
+        )
         return {view: to_png(images[view]) for view in views}
 
     def close(self) -> None:

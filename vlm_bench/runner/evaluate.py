@@ -53,21 +53,39 @@ class EpisodeInfo:
 
 
 def scored_record(
-    info: EpisodeInfo, episode: Episode, response: CachedResponse, scoring: ScoringConfig,
-    *, cached: bool = False,
+    info: EpisodeInfo,
+    episode: Episode,
+    response: CachedResponse,
+    scoring: ScoringConfig,
+    *,
+    cached: bool = False,
 ) -> EpisodeRecord:
     """The ``ok`` record of an episode the model answered."""
     ev = evaluate_output(response.text, episode, scoring)
     return EpisodeRecord(
-        run_id=info.run_id, key=info.key, task_id=episode.task_id, suite=episode.suite,
-        seed=episode.seed, variant=info.variant, model=info.model, prompt_hash=info.prompt_hash,
-        object_order=info.object_order, first_target_visible=info.first_target_visible,
-        raw_output=response.text, parse=ev.parse, plan=ev.plan,
-        gt_plan=plan_to_json(episode.gt_plan), scores=ev.scores, error_tags=ev.error_tags,
-        latency_s=response.latency_s, batch_latency_s=response.batch_latency_s,
+        run_id=info.run_id,
+        key=info.key,
+        task_id=episode.task_id,
+        suite=episode.suite,
+        seed=episode.seed,
+        variant=info.variant,
+        model=info.model,
+        prompt_hash=info.prompt_hash,
+        object_order=info.object_order,
+        first_target_visible=info.first_target_visible,
+        raw_output=response.text,
+        parse=ev.parse,
+        plan=ev.plan,
+        gt_plan=plan_to_json(episode.gt_plan),
+        scores=ev.scores,
+        error_tags=ev.error_tags,
+        latency_s=response.latency_s,
+        batch_latency_s=response.batch_latency_s,
         prompt_tokens=response.prompt_tokens,
-        completion_tokens=response.completion_tokens, finish_reason=response.finish_reason,
-        cached=cached, status="ok",
+        completion_tokens=response.completion_tokens,
+        finish_reason=response.finish_reason,
+        cached=cached,
+        status="ok",
     )
 
 
@@ -76,9 +94,19 @@ def error_record(
 ) -> EpisodeRecord:
     """The ``error`` record of an episode the backend failed to answer (retried on resume)."""
     return EpisodeRecord(
-        run_id=info.run_id, key=info.key, task_id=episode.task_id, suite=episode.suite,
-        seed=episode.seed, variant=info.variant, model=info.model, prompt_hash=info.prompt_hash,
-        object_order=info.object_order, first_target_visible=info.first_target_visible,
-        gt_plan=plan_to_json(episode.gt_plan), latency_s=latency_s, backend_error=error,
-        error_tags=("backend_error",), status="error",
+        run_id=info.run_id,
+        key=info.key,
+        task_id=episode.task_id,
+        suite=episode.suite,
+        seed=episode.seed,
+        variant=info.variant,
+        model=info.model,
+        prompt_hash=info.prompt_hash,
+        object_order=info.object_order,
+        first_target_visible=info.first_target_visible,
+        gt_plan=plan_to_json(episode.gt_plan),
+        latency_s=latency_s,
+        backend_error=error,
+        error_tags=("backend_error",),
+        status="error",
     )
