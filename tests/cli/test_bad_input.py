@@ -382,37 +382,30 @@ print(len(result.records))
 """
 
 
-def test_a_first_run_whose_backend_loads_triton_after_rendering_does_not_crash(
-    tmp_path: Path,
+_RENDER_FIRST = (
+    "from vlm_bench.episodes import make_episode\n"
+    "from vlm_bench.sim.render import SnapshotRenderer\n"
+    "from vlm_bench.sim.scene import build_scene\n"
+    f"scene = build_scene(make_episode('{TASK}', 0))\n"
+    "SnapshotRenderer(shadows=False).render(scene.model, scene.data, 'overhead', 32)\n"
+)
+
+
+@pytest.mark.parametrize(
+    "prelude",
+    [
+        pytest.param("", id="first-run"),
+        # GL first (a renderer made outside any run, as a notebook or a gym environment does):
+        # the renderer preloaded triton, and the run's own preload does not import it after EGL.
+        pytest.param(_RENDER_FIRST, id="after-the-process-rendered"),
+    ],
+)
+def test_a_run_whose_backend_loads_triton_after_rendering_does_not_crash(
+    tmp_path: Path, prelude: str
 ) -> None:
     if find_spec("triton") is None:
         pytest.skip("triton is not installed")
-    done = subprocess.run(
-        [sys.executable, "-c", _TRITON_RUN.replace("{task}", TASK), str(tmp_path / "run")],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-        timeout=180,
-        check=False,
-    )
-    assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
-    assert done.stdout.strip().splitlines()[-1] == "2"
-
-
-def test_a_run_after_the_process_rendered_on_its_own_does_not_crash(tmp_path: Path) -> None:
-    """GL first (a renderer made outside any run, as a notebook or a gym environment does),
-    then a run whose backend loads triton: the renderer preloaded it, and the run's own
-    preload does not import it after EGL."""
-    if find_spec("triton") is None:
-        pytest.skip("triton is not installed")
-    render_first = (
-        "from vlm_bench.episodes import make_episode\n"
-        "from vlm_bench.sim.render import SnapshotRenderer\n"
-        "from vlm_bench.sim.scene import build_scene\n"
-        f"scene = build_scene(make_episode('{TASK}', 0))\n"
-        "SnapshotRenderer(shadows=False).render(scene.model, scene.data, 'overhead', 32)\n"
-    )
-    script = render_first + _TRITON_RUN.replace("{task}", TASK)
+    script = prelude + _TRITON_RUN.replace("{task}", TASK)
     done = subprocess.run(
         [sys.executable, "-c", script, str(tmp_path / "run")],
         capture_output=True,

@@ -51,6 +51,22 @@ class EpisodeInfo:
     object_order: tuple[str, ...] = ()
     first_target_visible: bool | None = None
 
+    def record_fields(self, episode: Episode) -> dict[str, Any]:
+        """The fields every record of this episode carries, answered or not."""
+        return {
+            "run_id": self.run_id,
+            "key": self.key,
+            "task_id": episode.task_id,
+            "suite": episode.suite,
+            "seed": episode.seed,
+            "variant": self.variant,
+            "model": self.model,
+            "prompt_hash": self.prompt_hash,
+            "object_order": self.object_order,
+            "first_target_visible": self.first_target_visible,
+            "gt_plan": plan_to_json(episode.gt_plan),
+        }
+
 
 def scored_record(
     info: EpisodeInfo,
@@ -63,20 +79,10 @@ def scored_record(
     """The ``ok`` record of an episode the model answered."""
     ev = evaluate_output(response.text, episode, scoring)
     return EpisodeRecord(
-        run_id=info.run_id,
-        key=info.key,
-        task_id=episode.task_id,
-        suite=episode.suite,
-        seed=episode.seed,
-        variant=info.variant,
-        model=info.model,
-        prompt_hash=info.prompt_hash,
-        object_order=info.object_order,
-        first_target_visible=info.first_target_visible,
+        **info.record_fields(episode),
         raw_output=response.text,
         parse=ev.parse,
         plan=ev.plan,
-        gt_plan=plan_to_json(episode.gt_plan),
         scores=ev.scores,
         error_tags=ev.error_tags,
         latency_s=response.latency_s,
@@ -94,17 +100,7 @@ def error_record(
 ) -> EpisodeRecord:
     """The ``error`` record of an episode the backend failed to answer (retried on resume)."""
     return EpisodeRecord(
-        run_id=info.run_id,
-        key=info.key,
-        task_id=episode.task_id,
-        suite=episode.suite,
-        seed=episode.seed,
-        variant=info.variant,
-        model=info.model,
-        prompt_hash=info.prompt_hash,
-        object_order=info.object_order,
-        first_target_visible=info.first_target_visible,
-        gt_plan=plan_to_json(episode.gt_plan),
+        **info.record_fields(episode),
         latency_s=latency_s,
         backend_error=error,
         error_tags=("backend_error",),
