@@ -20,7 +20,7 @@ from vlm_bench.sim.environment import (
     add_environment,
     key_light_direction,
 )
-from vlm_bench.sim.props import KEEP_OUT_RADIUS, PROP_PREFIX, Placer
+from vlm_bench.sim.prop_kit import KEEP_OUT_RADIUS, PROP_PREFIX, Placer
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.types.episode import Lighting
 

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.catalog.world_catalog import color
-from vlm_bench.sim import props
+from vlm_bench.sim import prop_kit, props
 from vlm_bench.sim.constants import FLOOR_GEOM
 from vlm_bench.sim.materials import solid_material, textured_material, to_u8
 from vlm_bench.types.base import RGBA
@@ -235,12 +235,16 @@ def _add_walls(spec: mujoco.MjSpec, env: EnvironmentSpec) -> None:
                 material=mat, contype=0, conaffinity=0,
             )  # fmt: skip
     if env.type == "household":
-        props.add_window(spec, f"{WALL_PREFIX}window_n", (0.0, hs), 90.0, (1.8, 1.2), 1.65)
-        props.add_window(spec, f"{WALL_PREFIX}window_w", (-hs, 1.2), 0.0, (1.4, 1.2), 1.65)
+        prop_kit.add_window(spec, f"{WALL_PREFIX}window_n", (0.0, hs), 90.0, (1.8, 1.2), 1.65)
+        prop_kit.add_window(spec, f"{WALL_PREFIX}window_w", (-hs, 1.2), 0.0, (1.4, 1.2), 1.65)
     else:  # high strip windows of a hall
         for i, x in enumerate((-2.0, 2.0)):
-            props.add_window(spec, f"{WALL_PREFIX}window_n{i}", (x, hs), 90.0, (3.0, 0.8), h - 0.7)
-            props.add_window(spec, f"{WALL_PREFIX}window_s{i}", (x, -hs), 90.0, (3.0, 0.8), h - 0.7)
+            prop_kit.add_window(
+                spec, f"{WALL_PREFIX}window_n{i}", (x, hs), 90.0, (3.0, 0.8), h - 0.7
+            )
+            prop_kit.add_window(
+                spec, f"{WALL_PREFIX}window_s{i}", (x, -hs), 90.0, (3.0, 0.8), h - 0.7
+            )
 
 
 # side -> (unit x, unit y, yaw of the wall's normal axis in degrees)
