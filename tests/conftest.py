@@ -7,7 +7,9 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
+from typing import Any
 
 import pytest
 from click.testing import Result
@@ -39,6 +41,25 @@ class Cli:
         """Run a command in this process; its exception, if any, is kept in the result."""
         return CliRunner().invoke(self.app, list(args))
 
+    @staticmethod
+    def command(*args: str) -> list[str]:
+        """The argv of the real console entry point with ``args`` (for ``subprocess``)."""
+        return [sys.executable, "-c", "from vlm_bench.cli.main import main; main()", *args]
+
+    @staticmethod
+    def wait_for_records(
+        proc: subprocess.Popen[Any], records: Path, n: int, timeout: float = 60
+    ) -> int:
+        """Wait until ``records`` (a run's records.jsonl) has ``n`` lines while ``proc`` runs;
+        fails if the run ended first. Returns the lines written."""
+        deadline = time.monotonic() + timeout
+        while proc.poll() is None and time.monotonic() < deadline:
+            if _lines(records) >= n:
+                break
+            time.sleep(0.005)
+        assert proc.poll() is None, "the run ended before it could be stopped"
+        return _lines(records)
+
     def run(
         self,
         *args: str,
@@ -47,9 +68,8 @@ class Cli:
         timeout: float = 120,
     ) -> subprocess.CompletedProcess[str]:
         """Run the real console entry point in a subprocess."""
-        code = "from vlm_bench.cli.main import main; main()"
         return subprocess.run(
-            [sys.executable, "-c", code, *args],
+            self.command(*args),
             capture_output=True,
             text=True,
             cwd=cwd,
@@ -63,3 +83,10 @@ class Cli:
 def cli() -> Cli:
     """The CLI, to invoke in process or run as a subprocess."""
     return Cli()
+
+
+def _lines(path: Path) -> int:
+    try:
+        return path.read_bytes().count(b"\n")
+    except FileNotFoundError:
+        return 0

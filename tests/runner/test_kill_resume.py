@@ -5,9 +5,8 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
-import sys
-import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from vlm_bench.storage import latest_records, read_records
 
@@ -26,12 +25,12 @@ TASKS = (
 )
 TOTAL = len(TASKS) * 2 * 2
 
+if TYPE_CHECKING:
+    from tests.conftest import Cli
 
-def _command(out: Path) -> list[str]:
+
+def _args(out: Path) -> list[str]:
     args = [
-        sys.executable,
-        "-c",
-        "from vlm_bench.cli.main import main; main()",
         "run",
         "--model",
         "oracle",
@@ -51,33 +50,27 @@ def _command(out: Path) -> list[str]:
     return args
 
 
-def _lines(path: Path) -> int:
-    try:
-        return path.read_bytes().count(b"\n")
-    except FileNotFoundError:
-        return 0
-
-
-def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> None:
+def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Path) -> None:
     killed_dir = tmp_path / "killed" / "run"
     clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
     # Snapshot caches beside each run folder: the clean run renders everything itself.
     env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
     proc = subprocess.Popen(
-        _command(killed_dir), cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+        cli.command(*_args(killed_dir)),
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
     )
     records = killed_dir / "records.jsonl"
-    deadline = time.monotonic() + 50
-    while _lines(records) < 3 and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.005)
-    assert proc.poll() is None, "the run ended before it could be killed"
+    cli.wait_for_records(proc, records, 3, timeout=50)
     os.kill(proc.pid, signal.SIGKILL)
     proc.wait()
-    at_kill = _lines(records)
+    at_kill = records.read_bytes().count(b"\n")
     assert 3 <= at_kill < TOTAL, at_kill
 
     resumed = subprocess.run(
-        _command(killed_dir),
+        cli.command(*_args(killed_dir)),
         cwd=ROOT,
         env=env,
         capture_output=True,
@@ -88,7 +81,7 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> Non
     assert resumed.returncode == 0, resumed.stderr
     assert "resumed" in resumed.stdout
     clean = subprocess.run(
-        _command(clean_dir),
+        cli.command(*_args(clean_dir)),
         cwd=ROOT,
         env=env,
         capture_output=True,
@@ -106,9 +99,9 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(tmp_path: Path) -> Non
     assert records.read_bytes().endswith(b"\n")
 
 
-def test_ctrl_c_exits_130_with_a_resume_hint(tmp_path: Path) -> None:
+def test_ctrl_c_exits_130_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    command = _command(out)
+    command = cli.command(*_args(out))
     # pytest-xdist workers ignore SIGINT and children inherit that; restore the default so
     # the child Python installs its KeyboardInterrupt handler, as in a user's terminal.
     proc = subprocess.Popen(
@@ -120,10 +113,7 @@ def test_ctrl_c_exits_130_with_a_resume_hint(tmp_path: Path) -> None:
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     records = out / "records.jsonl"
-    deadline = time.monotonic() + 50
-    while _lines(records) < 2 and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.005)
-    assert proc.poll() is None, "the run ended before it could be interrupted"
+    cli.wait_for_records(proc, records, 2, timeout=50)
     proc.send_signal(signal.SIGINT)
     _, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130, stderr

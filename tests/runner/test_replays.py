@@ -8,11 +8,11 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pytest
 from rich.console import Console
@@ -41,6 +41,9 @@ from vlm_bench.types.scores import ScoringConfig
 ROOT = Path(__file__).resolve().parents[2]
 FAST = ("container_geometry_bowl", "slim_object_in_bowl", "clear_desk_push_box")
 """Tasks whose GT replays take ~2 s."""
+
+if TYPE_CHECKING:
+    from tests.conftest import Cli
 
 
 def _outcome(summary: ExecutionSummary | None) -> dict[str, object] | None:
@@ -205,11 +208,8 @@ def test_plain_progress_lines_every_n_episodes() -> None:
     assert "eta 0:00" in lines[-1]
 
 
-def _command(out: Path) -> list[str]:
+def _args(out: Path) -> list[str]:
     args = [
-        sys.executable,
-        "-c",
-        "from vlm_bench.cli.main import main; main()",
         "run",
         "--model",
         "oracle",
@@ -230,12 +230,14 @@ def _command(out: Path) -> list[str]:
     return args
 
 
-def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(tmp_path: Path) -> None:
+def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
+    cli: Cli, tmp_path: Path
+) -> None:
     killed_dir = tmp_path / "killed" / "run"
     clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
     env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
     proc = subprocess.Popen(
-        _command(killed_dir),
+        cli.command(*_args(killed_dir)),
         cwd=ROOT,
         env=env,
         stdout=subprocess.DEVNULL,
@@ -243,17 +245,12 @@ def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(tmp_path
         start_new_session=True,
     )
     records = killed_dir / "records.jsonl"
-    deadline = time.monotonic() + 240
-    while proc.poll() is None and time.monotonic() < deadline:
-        if records.exists() and records.read_bytes().count(b"\n") >= 1:
-            break
-        time.sleep(0.01)
-    assert proc.poll() is None, "the run ended before it could be killed"
+    cli.wait_for_records(proc, records, 1, timeout=240)
     os.killpg(proc.pid, signal.SIGKILL)  # the run and its replay workers
     proc.wait()
     at_kill = len(read_records(records))
     assert 1 <= at_kill < len(FAST) * 2
-    for command in (_command(killed_dir), _command(clean_dir)):
+    for command in (cli.command(*_args(killed_dir)), cli.command(*_args(clean_dir))):
         done = subprocess.run(
             command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=600, check=False
         )
