@@ -1,10 +1,12 @@
 """Generation and plan replays overlapped: a run's wall time against max(generation, execution).
 
-Usage: ``python benchmarks/overlap.py [--latency 2] [--batch-size 2] [--tasks 8] [--workers 1,2]``
+Usage: ``python benchmarks/overlap.py [--latency 2] [--batch-size 2] [--tasks 8] [--seeds 1]
+[--workers 1,2]``
 
 A mock backend answers every batch after a fixed ``--latency`` (like a model on a GPU) with the
 GT plans. For each number of replay workers, three runs over the same episodes (explicit
-instruction, seed 0; snapshots cached beforehand, so rendering is out of the picture):
+instruction, seeds 0 to ``--seeds`` − 1; snapshots cached beforehand, so rendering is out of the
+picture):
 
 * generation: ``--no-execute`` with the latency (what the model alone takes);
 * execution: the plans replayed with no latency (what the simulator alone takes);
@@ -64,6 +66,7 @@ class SlowOracle(OracleBackend):
 
 def _run(
     tasks: Sequence[str],
+    seeds: int,
     out: Path,
     cache: Path,
     latency: float,
@@ -78,7 +81,7 @@ def _run(
     vlm_bench.run(
         model="oracle",
         tasks=tuple(tasks),
-        seeds=(0,),
+        seeds=tuple(range(seeds)),
         instructions=("explicit",),
         execute=execute,
         generation=GenerationConfig(batch_size=batch),
@@ -95,23 +98,41 @@ def main() -> None:
     parser.add_argument("--latency", type=float, default=2.0, help="seconds per batch")
     parser.add_argument("--batch-size", type=int, default=2)
     parser.add_argument("--tasks", type=int, default=8, help="episodes (fast GT replays)")
+    parser.add_argument("--seeds", type=int, default=1, help="seeds per task (0 .. N-1)")
     parser.add_argument("--workers", default="1,2", help="replay workers to compare")
     args = parser.parse_args()
     tasks = FAST_TASKS[: args.tasks]
     print(machine())
-    print(f"{len(tasks)} episodes, batch {args.batch_size}, {args.latency} s per batch")
+    n = len(tasks) * args.seeds
+    print(f"{n} episodes, batch {args.batch_size}, {args.latency} s per batch")
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         cache = root / "snapshots"
-        _run(tasks, root / "warm", cache, 0.0, args.batch_size, False, 0)  # render once
-        gen = _run(tasks, root / "gen", cache, args.latency, args.batch_size, False, 0)
+        _run(tasks, args.seeds, root / "warm", cache, 0.0, args.batch_size, False, 0)  # render once
+        gen = _run(tasks, args.seeds, root / "gen", cache, args.latency, args.batch_size, False, 0)
         print(f"generation alone: {gen:.1f} s")
         print("| workers | generation s | execution s | both s | both / max | both / sum |")
         print("|---|---|---|---|---|---|")
         for workers in (int(w) for w in args.workers.split(",")):
-            exe = _run(tasks, root / f"exe{workers}", cache, 0.0, args.batch_size, True, workers)
+            exe = _run(
+                tasks,
+                args.seeds,
+                root / f"exe{workers}",
+                cache,
+                0.0,
+                args.batch_size,
+                True,
+                workers,
+            )
             both = _run(
-                tasks, root / f"both{workers}", cache, args.latency, args.batch_size, True, workers
+                tasks,
+                args.seeds,
+                root / f"both{workers}",
+                cache,
+                args.latency,
+                args.batch_size,
+                True,
+                workers,
             )
             print(
                 f"| {workers} | {gen:.1f} | {exe:.1f} | {both:.1f} | "
