@@ -20,6 +20,7 @@ from vlm_bench.sim.environment import (
     add_environment,
     key_light_direction,
 )
+from vlm_bench.sim.framing import view_xyaxes
 from vlm_bench.sim.prop_kit import KEEP_OUT_RADIUS, PROP_PREFIX, Placer
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.types.episode import Lighting
@@ -27,20 +28,6 @@ from vlm_bench.types.episode import Lighting
 ENV_NAMES = sorted(environments())
 NEUTRAL = Lighting(azimuth_deg=0.0, intensity=1.0)
 CAM_POS = (2.5, -2.5, 2.2)
-
-
-def look_at_quat(
-    pos: tuple[float, float, float], target: tuple[float, float, float]
-) -> list[float]:
-    """Quaternion of a MuJoCo camera at ``pos`` looking at ``target`` (camera looks along -z)."""
-    z = np.subtract(pos, target).astype(float)
-    z /= np.linalg.norm(z)
-    x = np.cross([0.0, 0.0, 1.0], z)
-    x /= np.linalg.norm(x)
-    y = np.cross(z, x)
-    quat = np.zeros(4)
-    mujoco.mju_mat2Quat(quat, np.stack([x, y, z], axis=1).ravel())
-    return [float(q) for q in quat]
 
 
 def build(name: str, lighting: Lighting = NEUTRAL) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -52,7 +39,7 @@ def build(name: str, lighting: Lighting = NEUTRAL) -> tuple[mujoco.MjModel, mujo
         pos=[0.0, 0.0, 0.2], rgba=[0.85, 0.12, 0.12, 1.0],
     )  # fmt: skip
     spec.worldbody.add_camera(
-        name="dummy", pos=list(CAM_POS), quat=look_at_quat(CAM_POS, (0, 0, 0))
+        name="dummy", pos=list(CAM_POS), xyaxes=view_xyaxes(-np.array(CAM_POS))
     )
     model = spec.compile()
     data = mujoco.MjData(model)

@@ -11,6 +11,7 @@ import pytest
 from numpy.typing import NDArray
 
 from vlm_bench.errors import ConfigError, UnknownNameError
+from vlm_bench.sim.framing import view_xyaxes
 from vlm_bench.sim.labels import draw_labels, project_points
 from vlm_bench.sim.render import SnapshotRenderer, contact_sheet
 
@@ -20,20 +21,6 @@ CAMERAS = {
     "front": ((2.0, -1.2, 1.4), (0.0, 0.0, 0.4)),
     "high": ((-0.6, -0.4, 2.6), (0.0, 0.1, 0.3)),
 }
-
-
-def look_at_quat(
-    pos: tuple[float, float, float], target: tuple[float, float, float]
-) -> list[float]:
-    """Quaternion of a MuJoCo camera at ``pos`` looking at ``target`` (camera looks along -z)."""
-    z = np.subtract(pos, target).astype(float)
-    z /= np.linalg.norm(z)
-    x = np.cross([0.0, 0.0, 1.0], z)
-    x /= np.linalg.norm(x)
-    y = np.cross(z, x)
-    quat = np.zeros(4)
-    mujoco.mju_mat2Quat(quat, np.stack([x, y, z], axis=1).ravel())
-    return [float(q) for q in quat]
 
 
 def scene(markers: NDArray[np.float64] | None = None) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -60,10 +47,13 @@ def scene(markers: NDArray[np.float64] | None = None) -> tuple[mujoco.MjModel, m
                 pos=list(p), material="glow",
             )  # fmt: skip
     for name, (pos, target) in CAMERAS.items():
-        world.add_camera(name=name, pos=list(pos), quat=look_at_quat(pos, target), fovy=50)
+        world.add_camera(
+            name=name, pos=list(pos), xyaxes=view_xyaxes(np.subtract(target, pos)), fovy=50
+        )
     ortho = ((0.3, -2.5, 1.5), (0.0, 0.0, 0.4))
     world.add_camera(
-        name="ortho", pos=list(ortho[0]), quat=look_at_quat(*ortho), fovy=2.0,
+        name="ortho", pos=list(ortho[0]), xyaxes=view_xyaxes(np.subtract(ortho[1], ortho[0])),
+        fovy=2.0,
         proj=mujoco.mjtProjection.mjPROJ_ORTHOGRAPHIC,
     )  # fmt: skip
     model = spec.compile()
