@@ -189,6 +189,15 @@ def build_cleanser(
     return kit.finish(kind.mass)
 
 
+def _carton_body(kit: Kit, size: Vec3, look: Look) -> None:
+    """The solid body of a closed carton, 1 mm inside the sides and top of ``size``, so that
+    bands, seams, tape and labels on its faces stand proud of it."""
+    sx, sy, sz = size
+    kit.box(
+        "body", (sx / 2 - 0.001, sy / 2 - 0.001, sz / 2 - 0.0005), (0.0, 0.0, sz / 2 - 0.0005), look
+    )
+
+
 @OBJECT_BUILDERS.register("chocolate_box")
 def build_chocolate_box(
     spec: mujoco.MjSpec,
@@ -201,9 +210,7 @@ def build_chocolate_box(
     kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     gold = paint(spec, GOLD, specular=0.8, shininess=0.7)
-    kit.box(
-        "body", (sx / 2 - 0.001, sy / 2 - 0.001, sz / 2 - 0.0005), (0.0, 0.0, sz / 2 - 0.0005), rgba
-    )
+    _carton_body(kit, kind.size, rgba)
     kit.box("band", (0.012, sy / 2, sz / 2), (-0.035, 0.0, sz / 2), gold, solid=False)
     kit.box("seal", (0.02, 0.014, 0.0006), (0.03, 0.0, sz), gold, solid=False)
     kit.box(
@@ -228,12 +235,7 @@ def build_box(
     kit = object_kit(spec, parent, obj, kind, GRIP)
     sx, sy, sz = kind.size
     board = textured_look(spec, cardboard, rgba, specular=0.05)
-    kit.box(
-        "body",
-        (sx / 2 - 0.001, sy / 2 - 0.001, sz / 2 - 0.0005),
-        (0.0, 0.0, sz / 2 - 0.0005),
-        board,
-    )
+    _carton_body(kit, kind.size, board)
     tape = kit.look(TAPE if is_light(rgba) else shade(TAPE, 1.2))
     # Tape across the top along y and down both short ends.
     kit.box("tape_top", (0.011, sy / 2, 0.0005), (0.0, 0.0, sz), tape, solid=False)
