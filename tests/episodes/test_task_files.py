@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import json
 import shutil
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -30,11 +32,17 @@ def _first_task_file(root: Path) -> Path:
     return sorted((root / "ground_truth" / "tasks" / "base_manipulation").glob("*.json"))[0]
 
 
-def test_missing_field(data_copy: Path) -> None:
-    path = _first_task_file(data_copy)
+def _edit_first_task_file(root: Path, edit: Callable[[dict[str, Any]], object]) -> Path:
+    """The first task file, rewritten with ``edit`` applied to its JSON."""
+    path = _first_task_file(root)
     data = json.loads(path.read_text())
-    del data["instructions"]
+    edit(data)
     path.write_text(json.dumps(data))
+    return path
+
+
+def test_missing_field(data_copy: Path) -> None:
+    path = _edit_first_task_file(data_copy, lambda data: data.pop("instructions"))
     with pytest.raises(DataFileError) as err:
         task_catalog.all_tasks()
     msg = str(err.value)
@@ -42,10 +50,7 @@ def test_missing_field(data_copy: Path) -> None:
 
 
 def test_unknown_object_kind(data_copy: Path) -> None:
-    path = _first_task_file(data_copy)
-    data = json.loads(path.read_text())
-    data["objects"][1]["kind"] = "spaceship"
-    path.write_text(json.dumps(data))
+    _edit_first_task_file(data_copy, lambda data: data["objects"][1].update(kind="spaceship"))
     with pytest.raises(DataFileError, match=r"objects\[1\]\.kind: unknown object kind 'spaceship'"):
         task_catalog.all_tasks()
 
@@ -58,9 +63,6 @@ def test_invalid_json(data_copy: Path) -> None:
 
 
 def test_dangling_reference(data_copy: Path) -> None:
-    path = _first_task_file(data_copy)
-    data = json.loads(path.read_text())
-    data["arm_steps"][0]["object"] = "ghost"
-    path.write_text(json.dumps(data))
+    _edit_first_task_file(data_copy, lambda data: data["arm_steps"][0].update(object="ghost"))
     with pytest.raises(DataFileError, match=r"arm_steps\[0\]\.object: unknown object 'ghost'"):
         task_catalog.all_tasks()
