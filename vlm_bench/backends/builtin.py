@@ -11,7 +11,7 @@ import json
 import random
 import time
 from abc import abstractmethod
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from pydantic import Field, model_validator
@@ -24,19 +24,25 @@ from vlm_bench.types.generation import GenerationConfig, GenerationRequest, Gene
 from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
 
 
-def _answer(
-    req: GenerationRequest,
-    start: float,
-    text: str = "",
-    error: str | None = None,
-) -> GenerationResult:
-    return GenerationResult(
-        id=req.id,
-        text=text,
-        error=error,
-        latency_s=time.perf_counter() - start,
-        finish_reason=None if error else "stop",
-    )
+def _answer_each(
+    requests: Sequence[GenerationRequest],
+    answer: Callable[[GenerationRequest], tuple[str, str | None]],
+) -> list[GenerationResult]:
+    """A result per request from ``answer`` (its text and error), timed per request."""
+    out: list[GenerationResult] = []
+    for req in requests:
+        start = time.perf_counter()
+        text, error = answer(req)
+        out.append(
+            GenerationResult(
+                id=req.id,
+                text=text,
+                error=error,
+                latency_s=time.perf_counter() - start,
+                finish_reason=None if error else "stop",
+            )
+        )
+    return out
 
 
 class PlannerBackend(Backend):
@@ -54,15 +60,13 @@ class PlannerBackend(Backend):
         self, requests: Sequence[GenerationRequest], config: GenerationConfig
     ) -> list[GenerationResult]:
         """One plan per request, in the paper's JSON format."""
-        out: list[GenerationResult] = []
-        for req in requests:
-            start = time.perf_counter()
-            plan = self.plan(req)
-            if isinstance(plan, str):
-                out.append(_answer(req, start, error=plan))
-            else:
-                out.append(_answer(req, start, json.dumps(plan_to_json(list(plan)))))
-        return out
+        return _answer_each(requests, self._answer)
+
+    def _answer(self, request: GenerationRequest) -> tuple[str, str | None]:
+        plan = self.plan(request)
+        if isinstance(plan, str):
+            return "", plan
+        return json.dumps(plan_to_json(list(plan))), None
 
 
 class OracleBackend(PlannerBackend):
@@ -179,14 +183,12 @@ class MockBackend(Backend):
         self, requests: Sequence[GenerationRequest], config: GenerationConfig
     ) -> list[GenerationResult]:
         """Look each request id up in the script (or answer the fixed text)."""
-        out: list[GenerationResult] = []
-        for req in requests:
-            start = time.perf_counter()
-            if self.args.text is not None:
-                out.append(_answer(req, start, self.args.text))
-            elif req.id in self.script:
-                text, error = self.script[req.id]
-                out.append(_answer(req, start, "" if error else text, error))
-            else:
-                out.append(_answer(req, start, error=f"mock: no scripted output for id {req.id!r}"))
-        return out
+        return _answer_each(requests, self._answer)
+
+    def _answer(self, request: GenerationRequest) -> tuple[str, str | None]:
+        if self.args.text is not None:
+            return self.args.text, None
+        if request.id in self.script:
+            text, error = self.script[request.id]
+            return ("" if error else text), error
+        return "", f"mock: no scripted output for id {request.id!r}"
