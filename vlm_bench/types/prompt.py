@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
 from vlm_bench.types.base import Frozen
 from vlm_bench.types.generation import GenerationRequest, ImagePart, RequestMeta, TextPart
@@ -19,6 +19,16 @@ VIEWS: tuple[View, ...] = ("uav", "wrist", "overhead", "side")
 """All views, in the order the paper lists them (first-person first)."""
 
 
+def _unique_views(views: tuple[View, ...]) -> tuple[View, ...]:
+    if len(set(views)) != len(views):
+        raise ValueError(f"views must be unique, got {list(views)}")
+    return views
+
+
+Views = Annotated[tuple[View, ...], AfterValidator(_unique_views)]
+"""Camera views in order, each at most once."""
+
+
 class PromptConfig(Frozen):
     """How prompts are built for a run; part of the run manifest."""
 
@@ -28,7 +38,7 @@ class PromptConfig(Frozen):
         default="per_episode",
         description="Draw examples per episode (seed + episode) or once per run (cacheable).",
     )
-    views: tuple[View, ...] = Field(default=VIEWS, description="Camera views shown, in order.")
+    views: Views = Field(default=VIEWS, description="Camera views shown, in order.")
     object_list: bool = Field(default=True, description="List the scene's object ids.")
     scene_as_text: bool = Field(
         default=False,
@@ -36,13 +46,6 @@ class PromptConfig(Frozen):
         "perception).",
     )
     instruction: InstructionVariant = Field(default="explicit", description="Instruction variant.")
-
-    @field_validator("views")
-    @classmethod
-    def _unique_views(cls, views: tuple[View, ...]) -> tuple[View, ...]:
-        if len(set(views)) != len(views):
-            raise ValueError(f"views must be unique, got {list(views)}")
-        return views
 
 
 class ImageSlot(Frozen):

@@ -33,7 +33,7 @@ from pydantic import (
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.generation import GenerationConfig
-from vlm_bench.types.prompt import VIEWS, PromptConfig, View
+from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
@@ -107,7 +107,7 @@ class RunConfig(FiniteFrozen):
     instructions: tuple[InstructionVariant, ...] = Field(
         default=INSTRUCTION_VARIANTS, min_length=1, description="Instruction variants evaluated."
     )
-    views: tuple[View, ...] = Field(default=VIEWS, min_length=1, description="Views shown.")
+    views: Views = Field(default=VIEWS, min_length=1, description="Views shown.")
     resolution: int = Field(default=448, ge=16, le=4096, description="Snapshot side (px).")
     labels: bool = Field(default=True, description="Draw set-of-marks labels on shared ids.")
     k_shot: int = Field(default=2, ge=0, description="Few-shot examples in the system prompt.")
@@ -148,13 +148,6 @@ class RunConfig(FiniteFrozen):
         cls, variants: tuple[InstructionVariant, ...]
     ) -> tuple[InstructionVariant, ...]:
         return tuple(v for v in INSTRUCTION_VARIANTS if v in variants)
-
-    @field_validator("views")
-    @classmethod
-    def _unique_views(cls, views: tuple[View, ...]) -> tuple[View, ...]:
-        if len(set(views)) != len(views):
-            raise ValueError(f"views must be unique, got {list(views)}")
-        return views
 
     @model_validator(mode="after")
     def _tasks_or_suite(self) -> RunConfig:
