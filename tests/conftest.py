@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -45,6 +46,18 @@ class Cli:
     def command(*args: str) -> list[str]:
         """The argv of the real console entry point with ``args`` (for ``subprocess``)."""
         return [sys.executable, "-c", "from vlm_bench.cli.main import main; main()", *args]
+
+    @staticmethod
+    def run_args(
+        out: Path, model: str, tasks: Sequence[str], seeds: str, *options: str
+    ) -> list[str]:
+        """``run`` arguments: ``model`` on ``tasks`` x ``seeds`` into ``out`` with no progress
+        bar, plus ``options``."""
+        args = ["run", "--model", model, "--seeds", seeds, *options, "--out", str(out)]
+        args.append("--no-progress")
+        for task in tasks:
+            args += ["--task", task]
+        return args
 
     @staticmethod
     def wait_for_records(

@@ -25,29 +25,16 @@ FEW = ("standard_pick_place", "target_color_yellow", "synonym_block_bin", "tower
 METRICS = ["S_plan", "S_loc", "S_obj", "S_skill", "S_total", "Succ"]
 
 
-def _run_args(out: Path, model: str, tasks: tuple[str, ...], seeds: str = "0-1") -> list[str]:
+def _run_args(
+    cli: Cli, out: Path, model: str, tasks: tuple[str, ...], seeds: str = "0-1"
+) -> list[str]:
     # Plan execution is tested in test_cli_execute.py; these runs are about planning.
-    args = [
-        "run",
-        "--model",
-        model,
-        "--seeds",
-        seeds,
-        "--resolution",
-        "64",
-        "--out",
-        str(out),
-        "--no-progress",
-        "--no-execute",
-    ]
-    for task in tasks:
-        args += ["--task", task]
-    return args
+    return cli.run_args(out, model, tasks, seeds, "--resolution", "64", "--no-execute")
 
 
 def test_oracle_run_scores_100_everywhere(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "oracle"
-    printed = cli.invoke(*_run_args(out, "oracle", FEW))
+    printed = cli.invoke(*_run_args(cli, out, "oracle", FEW))
     summary = pd.read_csv(out / "summary.csv")
     assert set(summary.instruction) == {"explicit", "implicit", "both"}
     assert set(summary.suite) == {
@@ -70,7 +57,7 @@ def test_oracle_run_scores_100_everywhere(cli: Cli, tmp_path: Path) -> None:
 
 def test_random_run_scores_far_below(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "random"
-    cli.invoke(*_run_args(out, "random", FEW))
+    cli.invoke(*_run_args(cli, out, "random", FEW))
     summary = pd.read_csv(out / "summary.csv")
     overall = summary[(summary.instruction == "both") & (summary.suite == "overall")].iloc[0]
     assert overall.S_total < 60.0 and overall.Succ <= 10.0, overall
@@ -80,7 +67,7 @@ def test_perception_conditions_through_the_cli(cli: Cli, tmp_path: Path) -> None
     """--scene-as-text with the rules planner is perfect; --no-images sends no image; the
     records carry the shuffled object order and whether the first target was in view."""
     out = tmp_path / "rules"
-    printed = cli.invoke(*_run_args(out, "rules", FEW), "--scene-as-text", "--no-images")
+    printed = cli.invoke(*_run_args(cli, out, "rules", FEW), "--scene-as-text", "--no-images")
     summary = pd.read_csv(out / "summary.csv")
     assert (summary[METRICS] == 100.0).all().all(), summary
     assert "ΔLoc" in printed
@@ -120,15 +107,17 @@ def test_oracle_full_sweep_all_60_tasks(cli: Cli, tmp_path: Path) -> None:
 
 def test_mismatched_config_and_second_writer_are_refused(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    cli.invoke(*_run_args(out, "oracle", FEW[:1], seeds="0"))
-    refused = cli.run(*_run_args(out, "oracle", FEW[:1], seeds="0-1"), "--max-new-tokens", "64")
+    cli.invoke(*_run_args(cli, out, "oracle", FEW[:1], seeds="0"))
+    refused = cli.run(
+        *_run_args(cli, out, "oracle", FEW[:1], seeds="0-1"), "--max-new-tokens", "64"
+    )
     assert refused.returncode == 2
     lines = refused.stderr.strip().splitlines()
     assert len(lines) == 1 and "different configuration" in lines[0], refused.stderr
     assert "seeds" in lines[0] and "generation.max_new_tokens" in lines[0]
     lock = FileLock(str(out / ".lock"), timeout=0)
     with lock:
-        locked = cli.run(*_run_args(out, "oracle", FEW[:1], seeds="0"))
+        locked = cli.run(*_run_args(cli, out, "oracle", FEW[:1], seeds="0"))
     assert locked.returncode == 2
     assert locked.stderr.strip().startswith("error: ") and "another vlm-bench process" in (
         locked.stderr
@@ -139,7 +128,7 @@ def test_mismatched_config_and_second_writer_are_refused(cli: Cli, tmp_path: Pat
 
 def test_rescore_command_rewrites_records_and_summary(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    cli.invoke(*_run_args(out, "oracle", FEW[:2], seeds="0"))
+    cli.invoke(*_run_args(cli, out, "oracle", FEW[:2], seeds="0"))
     before = [r.without_timing() for r in latest_records(out / "records.jsonl")]
     (out / "summary.csv").unlink()
     printed = cli.invoke("rescore", str(out))

@@ -3,24 +3,17 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from PIL import Image
 
-
-def cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-c", "from vlm_bench.cli.main import main; main()", *args],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+if TYPE_CHECKING:
+    from tests.conftest import Cli
 
 
-def test_tasks_json_lists_60_tasks_per_suite() -> None:
-    result = cli("tasks", "--json")
+def test_tasks_json_lists_60_tasks_per_suite(cli: Cli) -> None:
+    result = cli.run("tasks", "--json")
     assert result.returncode == 0, result.stderr
     rows = json.loads(result.stdout)
     assert len(rows) == 60
@@ -36,14 +29,14 @@ def test_tasks_json_lists_60_tasks_per_suite() -> None:
     }
 
 
-def test_tasks_table_and_filter() -> None:
-    result = cli("tasks", "--suite", "lh")
+def test_tasks_table_and_filter(cli: Cli) -> None:
+    result = cli.run("tasks", "--suite", "lh")
     assert result.returncode == 0
     assert "10 tasks" in result.stdout and "Long-Horizon: 10" in result.stdout
 
 
-def test_episode_json_has_gt_in_paper_format() -> None:
-    result = cli("episode", "drawer_interaction", "--seed", "2", "--json")
+def test_episode_json_has_gt_in_paper_format(cli: Cli) -> None:
+    result = cli.run("episode", "drawer_interaction", "--seed", "2", "--json")
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
     plan = data["gt_plan"]
@@ -52,8 +45,8 @@ def test_episode_json_has_gt_in_paper_format() -> None:
     assert {"objects", "uav_start", "instructions", "goals"} <= set(data)
 
 
-def test_render_writes_four_views_and_sheet(tmp_path: Path) -> None:
-    result = cli(
+def test_render_writes_four_views_and_sheet(cli: Cli, tmp_path: Path) -> None:
+    result = cli.run(
         "render", "standard_pick_place", "--seed", "1", "--out", str(tmp_path), "--size", "64"
     )
     assert result.returncode == 0, result.stderr
@@ -62,7 +55,7 @@ def test_render_writes_four_views_and_sheet(tmp_path: Path) -> None:
     assert Image.open(tmp_path / "sheet.png").size[0] > 128
 
 
-def test_user_errors_are_one_line() -> None:
+def test_user_errors_are_one_line(cli: Cli) -> None:
     cases = [
         (("episode", "no_such_task"), "unknown task 'no_such_task'; valid:"),
         (
@@ -73,7 +66,7 @@ def test_user_errors_are_one_line() -> None:
         (("tasks", "--env", "moon"), "unknown environment 'moon'; valid:"),
     ]
     for args, expected in cases:
-        result = cli(*args)
+        result = cli.run(*args)
         assert result.returncode == 2, (args, result.stderr)
         assert result.stderr.count("\n") == 1 and expected in result.stderr, result.stderr
         assert "Traceback" not in result.stderr

@@ -29,25 +29,9 @@ if TYPE_CHECKING:
     from tests.conftest import Cli
 
 
-def _args(out: Path) -> list[str]:
-    args = [
-        "run",
-        "--model",
-        "oracle",
-        "--seeds",
-        "0-1",
-        "--resolution",
-        "48",
-        "--batch-size",
-        "1",
-        "--out",
-        str(out),
-        "--no-progress",
-        "--no-execute",
-    ]
-    for task in TASKS:
-        args += ["--task", task]
-    return args
+def _args(cli: Cli, out: Path) -> list[str]:
+    options = ("--resolution", "48", "--batch-size", "1", "--no-execute")
+    return cli.run_args(out, "oracle", TASKS, "0-1", *options)
 
 
 def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Path) -> None:
@@ -56,7 +40,7 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Pa
     # Snapshot caches beside each run folder: the clean run renders everything itself.
     env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
     proc = subprocess.Popen(
-        cli.command(*_args(killed_dir)),
+        cli.command(*_args(cli, killed_dir)),
         cwd=ROOT,
         env=env,
         stdout=subprocess.DEVNULL,
@@ -69,26 +53,10 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Pa
     at_kill = records.read_bytes().count(b"\n")
     assert 3 <= at_kill < TOTAL, at_kill
 
-    resumed = subprocess.run(
-        cli.command(*_args(killed_dir)),
-        cwd=ROOT,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
+    resumed = cli.run(*_args(cli, killed_dir), env=env)
     assert resumed.returncode == 0, resumed.stderr
     assert "resumed" in resumed.stdout
-    clean = subprocess.run(
-        cli.command(*_args(clean_dir)),
-        cwd=ROOT,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
+    clean = cli.run(*_args(cli, clean_dir), env=env)
     assert clean.returncode == 0, clean.stderr
 
     got = [r.without_timing() for r in latest_records(records)]
@@ -101,7 +69,7 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Pa
 
 def test_ctrl_c_exits_130_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    command = cli.command(*_args(out))
+    command = cli.command(*_args(cli, out))
     # pytest-xdist workers ignore SIGINT and children inherit that; restore the default so
     # the child Python installs its KeyboardInterrupt handler, as in a user's terminal.
     proc = subprocess.Popen(
@@ -121,8 +89,6 @@ def test_ctrl_c_exits_130_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
     assert "Traceback" not in stderr
     done = len(read_records(records))  # every line written is a complete record
     assert 2 <= done < TOTAL
-    resumed = subprocess.run(
-        command, cwd=ROOT, capture_output=True, text=True, timeout=120, check=False
-    )
+    resumed = cli.run(*_args(cli, out))
     assert resumed.returncode == 0, resumed.stderr
     assert len(latest_records(records)) == TOTAL

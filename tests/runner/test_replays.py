@@ -208,26 +208,9 @@ def test_plain_progress_lines_every_n_episodes() -> None:
     assert "eta 0:00" in lines[-1]
 
 
-def _args(out: Path) -> list[str]:
-    args = [
-        "run",
-        "--model",
-        "oracle",
-        "--seeds",
-        "0",
-        "--resolution",
-        "48",
-        "--batch-size",
-        "1",
-        "--out",
-        str(out),
-        "--no-progress",
-        "--exec-workers",
-        "2",
-    ]
-    for task in FAST:
-        args += ["--task", task]
-    return args
+def _args(cli: Cli, out: Path) -> list[str]:
+    options = ("--resolution", "48", "--batch-size", "1", "--exec-workers", "2")
+    return cli.run_args(out, "oracle", FAST, "0", *options)
 
 
 def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
@@ -237,7 +220,7 @@ def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
     clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
     env = {k: v for k, v in os.environ.items() if k != "VLM_BENCH_SNAPSHOT_CACHE"}
     proc = subprocess.Popen(
-        cli.command(*_args(killed_dir)),
+        cli.command(*_args(cli, killed_dir)),
         cwd=ROOT,
         env=env,
         stdout=subprocess.DEVNULL,
@@ -250,10 +233,8 @@ def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
     proc.wait()
     at_kill = len(read_records(records))
     assert 1 <= at_kill < len(FAST) * 2
-    for command in (cli.command(*_args(killed_dir)), cli.command(*_args(clean_dir))):
-        done = subprocess.run(
-            command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=600, check=False
-        )
+    for run_dir in (killed_dir, clean_dir):
+        done = cli.run(*_args(cli, run_dir), env=env, timeout=600)
         assert done.returncode == 0, done.stderr
 
     def outcomes(path: Path) -> list[object]:
