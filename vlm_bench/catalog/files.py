@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 from typing import TypeVar
 
@@ -46,3 +47,15 @@ def load_model(path: Path, model: type[M]) -> M:
         err = exc.errors()[0]
         more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
         raise DataFileError(str(path), f"{_location(err['loc'])}: {err['msg']}{more}") from None
+
+
+def load_by_name(folder: Path, model: type[M], name: Callable[[M], str]) -> dict[str, M]:
+    """Every ``*.json`` in ``folder`` validated against ``model``, by ``name``, in file-name
+    order; a file whose ``name`` differs from its file name is an error."""
+    out: dict[str, M] = {}
+    for path in sorted(folder.glob("*.json")):
+        item = load_model(path, model)
+        if name(item) != path.stem:
+            raise DataFileError(str(path), f"name: {name(item)!r} differs from the file name")
+        out[name(item)] = item
+    return out

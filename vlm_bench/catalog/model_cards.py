@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from functools import cache
 
-from vlm_bench.catalog.files import load_model
-from vlm_bench.errors import DataFileError, UnknownNameError
+from vlm_bench.catalog.files import load_by_name
+from vlm_bench.errors import UnknownNameError
 from vlm_bench.resources import models_dir
 from vlm_bench.types.model_card import ModelCard
 
@@ -13,13 +13,7 @@ from vlm_bench.types.model_card import ModelCard
 @cache
 def model_cards() -> dict[str, ModelCard]:
     """Every card by name, in file-name order (cached)."""
-    out: dict[str, ModelCard] = {}
-    for path in sorted(models_dir().glob("*.json")):
-        card = load_model(path, ModelCard)
-        if card.name != path.stem:
-            raise DataFileError(str(path), f"name: {card.name!r} differs from the file name")
-        out[card.name] = card
-    return out
+    return load_by_name(models_dir(), ModelCard, lambda card: card.name)
 
 
 def model_card(name: str) -> ModelCard:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from functools import cache
 
-from vlm_bench.catalog.files import load_model
-from vlm_bench.errors import DataFileError, UnknownNameError
+from vlm_bench.catalog.files import load_by_name
+from vlm_bench.errors import UnknownNameError
 from vlm_bench.resources import skills_dir
 from vlm_bench.types.skill import SkillSpec
 
@@ -13,13 +13,7 @@ from vlm_bench.types.skill import SkillSpec
 @cache
 def skills() -> dict[str, SkillSpec]:
     """All skills by canonical name, in file-name order (cached)."""
-    out: dict[str, SkillSpec] = {}
-    for path in sorted(skills_dir().glob("*.json")):
-        spec = load_model(path, SkillSpec)
-        if spec.name != path.stem:
-            raise DataFileError(str(path), f"name: {spec.name!r} differs from the file name")
-        out[spec.name] = spec
-    return out
+    return load_by_name(skills_dir(), SkillSpec, lambda spec: spec.name)
 
 
 def skill(name: str) -> SkillSpec:
