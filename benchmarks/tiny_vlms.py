@@ -168,18 +168,7 @@ def _llava(corpus: Sequence[str]) -> Built:
             patch_size=8,
             projection_dim=HIDDEN,
         ),
-        text_config=LlamaConfig(
-            hidden_size=HIDDEN,
-            intermediate_size=64,
-            num_hidden_layers=LAYERS,
-            num_attention_heads=HEADS,
-            num_key_value_heads=HEADS,
-            vocab_size=len(tok),
-            max_position_embeddings=8192,
-            bos_token_id=tok.bos_token_id,
-            eos_token_id=tok.eos_token_id,
-            pad_token_id=tok.pad_token_id,
-        ),
+        text_config=LlamaConfig(**_text_config(tok)),
         image_token_id=image_id,
         vision_feature_select_strategy="default",
         vision_feature_layer=-1,
@@ -215,20 +204,8 @@ def _qwen_vl(corpus: Sequence[str], version: str) -> Built:
     )
     ids = {t: tok.convert_tokens_to_ids(t) for t in specials}
     patch = 14 if version == "2.5" else 16
-    text = {
-        "hidden_size": HIDDEN,
-        "intermediate_size": 64,
-        "num_hidden_layers": LAYERS,
-        "num_attention_heads": HEADS,
-        "num_key_value_heads": HEADS,
-        "vocab_size": len(tok),
-        "max_position_embeddings": 8192,
-        "bos_token_id": tok.bos_token_id,
-        "eos_token_id": tok.eos_token_id,
-        "pad_token_id": tok.pad_token_id,
-        # head_dim 16: the three M-RoPE sections (t, h, w) share its 8 frequencies
-        "rope_parameters": {"rope_type": "default", "mrope_section": [2, 3, 3]},
-    }
+    # head_dim 16: the three M-RoPE sections (t, h, w) share its 8 frequencies
+    text = _text_config(tok, rope_parameters={"rope_type": "default", "mrope_section": [2, 3, 3]})
     vision = {
         "depth": LAYERS,
         "hidden_size": HIDDEN,
