@@ -113,6 +113,12 @@ def write_run(
 
 
 @pytest.fixture
+def make_scores() -> Callable[..., PlanScores]:
+    """:func:`scores`."""
+    return scores
+
+
+@pytest.fixture
 def make_record() -> Callable[..., EpisodeRecord]:
     """:func:`record`."""
     return record

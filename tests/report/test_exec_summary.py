@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import pandas as pd
 import pytest
@@ -12,24 +13,6 @@ from vlm_bench.report.tables import summary_rich
 from vlm_bench.types.execution import ExecutionSummary, VlaScores
 from vlm_bench.types.records import EpisodeRecord
 from vlm_bench.types.scores import PlanScores
-
-SCORES = PlanScores(
-    s_plan=100,
-    s_loc=100,
-    s_obj=100,
-    s_skill=100,
-    s_total=100,
-    succ=True,
-    m=0,
-    k=0,
-    n=1,
-    n_move=0,
-    m_obj=0,
-    k_obj=0,
-    n_obj=0,
-    m_skill=0,
-    n_skill=0,
-)
 
 
 def _execution(success: bool, s_task: float, vla: float) -> ExecutionSummary:
@@ -44,26 +27,33 @@ def _execution(success: bool, s_task: float, vla: float) -> ExecutionSummary:
     )
 
 
-def _rec(
-    run: str,
-    suite: str,
-    seed: int,
-    variant: str,
-    execution: ExecutionSummary | None,
-    ok: bool = True,
-) -> EpisodeRecord:
-    return EpisodeRecord(
-        run_id=run,
-        key=f"{suite}_t/{seed}/{variant}",
-        task_id=f"{suite}_t",
-        suite=suite,
-        seed=seed,
-        variant=variant,
-        model=run,
-        scores=SCORES if ok else None,
-        status="ok" if ok else "error",
-        execution=execution,
-    )
+@pytest.fixture
+def rec(make_scores: Callable[..., PlanScores]) -> Callable[..., EpisodeRecord]:
+    """A record of run ``run`` (every planning metric 100) with ``execution``; ``ok=False``:
+    a backend error."""
+
+    def build(
+        run: str,
+        suite: str,
+        seed: int,
+        variant: str,
+        execution: ExecutionSummary | None,
+        ok: bool = True,
+    ) -> EpisodeRecord:
+        return EpisodeRecord(
+            run_id=run,
+            key=f"{suite}_t/{seed}/{variant}",
+            task_id=f"{suite}_t",
+            suite=suite,
+            seed=seed,
+            variant=variant,
+            model=run,
+            scores=make_scores(100.0, 100.0, 100.0, 100.0, succ=True) if ok else None,
+            status="ok" if ok else "error",
+            execution=execution,
+        )
+
+    return build
 
 
 def _cell(long: pd.DataFrame, model: str, instruction: str, suite: str) -> pd.Series:
@@ -73,15 +63,15 @@ def _cell(long: pd.DataFrame, model: str, instruction: str, suite: str) -> pd.Se
 
 
 @pytest.fixture
-def frame() -> pd.DataFrame:
+def frame(rec: Callable[..., EpisodeRecord]) -> pd.DataFrame:
     # Base: a success (S_task 100, VLA 80) and an output with no plan (not executed).
     # Long horizon: a failure (S_task 50, VLA 40) and a backend error (left out).
     return records_frame(
         [
-            _rec("m", "base_manipulation", 0, "explicit", _execution(True, 100.0, 80.0)),
-            _rec("m", "base_manipulation", 1, "explicit", None),
-            _rec("m", "long_horizon", 0, "explicit", _execution(False, 50.0, 40.0)),
-            _rec("m", "long_horizon", 1, "explicit", None, ok=False),
+            rec("m", "base_manipulation", 0, "explicit", _execution(True, 100.0, 80.0)),
+            rec("m", "base_manipulation", 1, "explicit", None),
+            rec("m", "long_horizon", 0, "explicit", _execution(False, 50.0, 40.0)),
+            rec("m", "long_horizon", 1, "explicit", None, ok=False),
         ],
         {"m": True},
     )
@@ -110,19 +100,21 @@ def test_tables_show_exec_and_task_only(frame: pd.DataFrame) -> None:
     assert [str(c.header) for c in narrow.columns][-3:] == ["Exec", "Task", "n"]
 
 
-def test_runs_without_execution_have_no_exec_columns() -> None:
-    frame = records_frame([_rec("m", "base_manipulation", 0, "explicit", None)], {"m": False})
+def test_runs_without_execution_have_no_exec_columns(rec: Callable[..., EpisodeRecord]) -> None:
+    frame = records_frame([rec("m", "base_manipulation", 0, "explicit", None)], {"m": False})
     assert frame[list(EXEC_VALUES)].isna().all().all()
     long = summary_long(frame)
     assert not set(EXEC_VALUES) & set(long.columns)
     assert "Exec" not in summary_markdown(long)
 
 
-def test_comparing_an_executing_run_with_a_planning_only_run() -> None:
+def test_comparing_an_executing_run_with_a_planning_only_run(
+    rec: Callable[..., EpisodeRecord],
+) -> None:
     frame = records_frame(
         [
-            _rec("a", "base_manipulation", 0, "explicit", _execution(True, 100.0, 90.0)),
-            _rec("b", "base_manipulation", 0, "explicit", None),
+            rec("a", "base_manipulation", 0, "explicit", _execution(True, 100.0, 90.0)),
+            rec("b", "base_manipulation", 0, "explicit", None),
         ],
         {"a": True, "b": False},
     )
@@ -131,12 +123,12 @@ def test_comparing_an_executing_run_with_a_planning_only_run() -> None:
     assert math.isnan(_cell(long, "b", "explicit", "overall").exec_success)
 
 
-def test_executing_runs_are_guessed_without_manifests() -> None:
+def test_executing_runs_are_guessed_without_manifests(rec: Callable[..., EpisodeRecord]) -> None:
     frame = records_frame(
         [
-            _rec("a", "base_manipulation", 0, "explicit", _execution(False, 0.0, 10.0)),
-            _rec("a", "base_manipulation", 1, "explicit", None),
-            _rec("b", "base_manipulation", 0, "explicit", None),
+            rec("a", "base_manipulation", 0, "explicit", _execution(False, 0.0, 10.0)),
+            rec("a", "base_manipulation", 1, "explicit", None),
+            rec("b", "base_manipulation", 0, "explicit", None),
         ]
     )
     assert frame.exec_success.tolist()[:2] == [0.0, 0.0]

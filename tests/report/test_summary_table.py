@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 import pandas as pd
@@ -14,57 +15,43 @@ from vlm_bench.types.records import EpisodeRecord
 from vlm_bench.types.scores import PlanScores
 
 
-def _scores(total: float, succ: bool) -> PlanScores:
-    return PlanScores(
-        s_plan=total,
-        s_loc=total,
-        s_obj=total,
-        s_skill=total,
-        s_total=total,
-        succ=succ,
-        m=0,
-        k=0,
-        n=1,
-        n_move=0,
-        m_obj=0,
-        k_obj=0,
-        n_obj=0,
-        m_skill=0,
-        n_skill=0,
-    )
+@pytest.fixture
+def rec(make_scores: Callable[..., PlanScores]) -> Callable[..., EpisodeRecord]:
+    """A record whose four planning metrics equal ``total``; None: a backend error."""
 
+    def build(
+        model: str, suite: str, seed: int, variant: str, total: float | None, succ: bool = False
+    ) -> EpisodeRecord:
+        ok = total is not None
+        return EpisodeRecord(
+            run_id="r",
+            key=f"{suite}_t/{seed}/{variant}",
+            task_id=f"{suite}_t",
+            suite=suite,
+            seed=seed,
+            variant=variant,
+            model=model,
+            scores=make_scores(total, total, total, total, succ) if total is not None else None,
+            status="ok" if ok else "error",
+            backend_error=None if ok else "timeout",
+        )
 
-def _rec(
-    model: str, suite: str, seed: int, variant: str, total: float | None, succ: bool = False
-) -> EpisodeRecord:
-    ok = total is not None
-    return EpisodeRecord(
-        run_id="r",
-        key=f"{suite}_t/{seed}/{variant}",
-        task_id=f"{suite}_t",
-        suite=suite,
-        seed=seed,
-        variant=variant,
-        model=model,
-        scores=_scores(total, succ) if total is not None else None,
-        status="ok" if ok else "error",
-        backend_error=None if ok else "timeout",
-    )
+    return build
 
 
 @pytest.fixture
-def frame() -> pd.DataFrame:
+def frame(rec: Callable[..., EpisodeRecord]) -> pd.DataFrame:
     # Base: 1 episode at 100 (exact). Long-horizon: 3 episodes at 0, 0, 60 and one error.
     # Episode-weighted overall would be (100 + 60) / 4 = 40; suite-averaged is (100 + 20) / 2.
     recs = [
-        _rec("m1", "base_manipulation", 0, "explicit", 100.0, succ=True),
-        _rec("m1", "long_horizon", 0, "explicit", 0.0),
-        _rec("m1", "long_horizon", 1, "explicit", 0.0),
-        _rec("m1", "long_horizon", 2, "explicit", 60.0),
-        _rec("m1", "long_horizon", 3, "explicit", None),
-        _rec("m1", "base_manipulation", 0, "implicit", 50.0),
-        _rec("m1", "long_horizon", 0, "implicit", 10.0),
-        _rec("m2", "base_manipulation", 0, "explicit", 30.0),
+        rec("m1", "base_manipulation", 0, "explicit", 100.0, succ=True),
+        rec("m1", "long_horizon", 0, "explicit", 0.0),
+        rec("m1", "long_horizon", 1, "explicit", 0.0),
+        rec("m1", "long_horizon", 2, "explicit", 60.0),
+        rec("m1", "long_horizon", 3, "explicit", None),
+        rec("m1", "base_manipulation", 0, "implicit", 50.0),
+        rec("m1", "long_horizon", 0, "implicit", 10.0),
+        rec("m2", "base_manipulation", 0, "explicit", 30.0),
     ]
     return records_frame(recs)
 
@@ -126,11 +113,13 @@ def test_rows_are_ordered_like_the_paper(frame: pd.DataFrame) -> None:
     ]
 
 
-def test_a_suite_with_only_errors_leaves_overall_undefined() -> None:
+def test_a_suite_with_only_errors_leaves_overall_undefined(
+    rec: Callable[..., EpisodeRecord],
+) -> None:
     frame = records_frame(
         [
-            _rec("m", "base_manipulation", 0, "explicit", 80.0),
-            _rec("m", "long_horizon", 0, "explicit", None),
+            rec("m", "base_manipulation", 0, "explicit", 80.0),
+            rec("m", "long_horizon", 0, "explicit", None),
         ]
     )
     long = summary_long(frame)
@@ -161,10 +150,12 @@ def test_wide_markdown_and_rich_layouts(frame: pd.DataFrame) -> None:
     assert narrow.row_count == len(long)
 
 
-def test_write_summary_files_from_the_run_folder(tmp_path: Path, frame: pd.DataFrame) -> None:
+def test_write_summary_files_from_the_run_folder(
+    tmp_path: Path, frame: pd.DataFrame, rec: Callable[..., EpisodeRecord]
+) -> None:
     recs = [
-        _rec("m1", "base_manipulation", 0, "explicit", 100.0, succ=True),
-        _rec("m1", "semantic_understanding", 0, "explicit", 40.0),
+        rec("m1", "base_manipulation", 0, "explicit", 100.0, succ=True),
+        rec("m1", "semantic_understanding", 0, "explicit", 40.0),
     ]
     (tmp_path / "records.jsonl").write_text("".join(r.model_dump_json() + "\n" for r in recs))
     long = write_summary(tmp_path)
@@ -180,7 +171,9 @@ def test_empty_frame_gives_an_empty_summary() -> None:
     assert long.empty and "No episodes" in summary_markdown(long)
 
 
-def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode() -> None:
+def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode(
+    make_scores: Callable[..., PlanScores],
+) -> None:
     from vlm_bench import score_output
     from vlm_bench.backends.blind_planner import blind_plan
     from vlm_bench.episodes import make_episode
@@ -199,7 +192,7 @@ def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode() -> 
         variant="explicit",
         model="m",
         gt_plan=gt,
-        scores=_scores(100.0, True),
+        scores=make_scores(100.0, 100.0, 100.0, 100.0, succ=True),
         status="ok",
     )
     row = records_frame([record]).iloc[0]
