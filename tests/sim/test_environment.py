@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterator
 
 import mujoco
 import numpy as np
@@ -45,12 +44,6 @@ def build(name: str, lighting: Lighting = NEUTRAL) -> tuple[mujoco.MjModel, mujo
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     return model, data
-
-
-@pytest.fixture(scope="module")
-def renderer() -> Iterator[SnapshotRenderer]:
-    with SnapshotRenderer(shadows=False) as r:
-        yield r
 
 
 @pytest.fixture(scope="module")

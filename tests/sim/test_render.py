@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator
 
 import mujoco
 import numpy as np
@@ -60,12 +59,6 @@ def scene(markers: NDArray[np.float64] | None = None) -> tuple[mujoco.MjModel, m
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     return model, data
-
-
-@pytest.fixture(scope="module")
-def renderer() -> Iterator[SnapshotRenderer]:
-    with SnapshotRenderer(shadows=False) as r:
-        yield r
 
 
 def test_headless_backend_is_the_default() -> None:

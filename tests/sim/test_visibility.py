@@ -5,7 +5,6 @@ segmentation render of the ``uav`` view."""
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 
 import numpy as np
 import pytest
@@ -27,13 +26,6 @@ from vlm_bench.types.episode import Episode, UavPose
 
 SIZE = 448
 SAMPLE = [(task.id, k % 10) for k, task in enumerate(all_tasks())][::4]  # 15 tasks, mixed seeds
-
-
-@pytest.fixture(scope="module")
-def renderer() -> Iterator[SnapshotRenderer]:
-    rend = SnapshotRenderer(shadows=False)
-    yield rend
-    rend.close()
 
 
 def _facing(episode: Episode, yaw_offset_deg: float, distance: float = 1.0) -> Episode:
