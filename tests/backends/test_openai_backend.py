@@ -40,6 +40,7 @@ class FakeServer:
         self.fail_first = 0  # answer the first N calls with HTTP 500
         self.status = 500
         self.sleep_s = 0.0
+        self.barrier: threading.Barrier | None = None  # hold each request until N are in flight
         self.calls = 0
         self.model_lists = 0
         self.enforces_schema = True
@@ -64,6 +65,12 @@ class FakeServer:
                     server.received.append(body)
                 if server.sleep_s:
                     time.sleep(server.sleep_s)
+                if server.barrier is not None:
+                    try:
+                        server.barrier.wait(timeout=20)
+                    except threading.BrokenBarrierError:
+                        self._reply(500, {"error": {"message": "not concurrent", "type": "x"}})
+                        return
                 if call <= server.fail_first:
                     self._reply(server.status, {"error": {"message": "boom", "type": "server"}})
                     return
@@ -223,12 +230,12 @@ def test_timeouts_are_recorded(server: FakeServer) -> None:
 
 
 def test_requests_run_concurrently(server: FakeServer) -> None:
-    server.sleep_s = 0.3
+    """The server answers none of the 4 requests until all 4 are in flight at once: a client
+    sending them one by one would get errors (no wall-clock limit, so load cannot fail it)."""
+    server.barrier = threading.Barrier(4)
     backend = resolve_backend("openai/m", {"base_url": server.url, "concurrency": "4"})
-    start = time.perf_counter()
     results = backend.generate([_request(f"r{i}") for i in range(4)], GenerationConfig())
-    assert all(r.error is None for r in results)
-    assert time.perf_counter() - start < 0.9  # sequential would take >= 1.2 s
+    assert [r.error for r in results] == [None] * 4
 
 
 def test_environment_fallbacks(server: FakeServer, monkeypatch: pytest.MonkeyPatch) -> None:
