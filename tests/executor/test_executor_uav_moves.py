@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -104,10 +105,18 @@ def test_execute_plan_fails_unavailable_skill_and_skips_rest() -> None:
     assert result.sim_time_s > 0.5
 
 
-def test_instability_is_a_failed_result() -> None:
+def test_instability_is_a_failed_result(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """...and MuJoCo's warning about it goes to the log, not to MUJOCO_LOG.TXT in the working
+    folder of a user who called the executor from Python (MuJoCo's defaults restored first)."""
+    monkeypatch.chdir(tmp_path)
+    mujoco.set_mju_user_warning(None)
+    defaults = mujoco.MjLogConfig.get()
+    defaults.logto_file = True
+    defaults.set()
     episode = make_episode("standard_pick_place", 0)
     scene = build_scene(episode)
     scene.data.qvel[:] = np.nan
     result = execute_plan(episode, [UavStep(direction=Direction.UP)], scene=scene)
     assert result.steps[0].status == "failed"
     assert result.failure_reason == "step 0: simulator unstable"
+    assert list(tmp_path.iterdir()) == []

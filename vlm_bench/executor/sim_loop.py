@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from vlm_bench.sim.constants import CONTROL_DT, STEPS_PER_CONTROL, TCP_SITE, UAV_FREEJOINT
+from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.sim.robot import robot_geom_ids
 from vlm_bench.sim.scene import Scene
 from vlm_bench.types.episode import Episode, UavPose
@@ -43,6 +44,7 @@ class SimLoop:
     """
 
     def __init__(self, scene: Scene, config: ExecutorConfig | None = None) -> None:
+        route_mujoco_log()  # an unstable simulation is logged, never MUJOCO_LOG.TXT in the cwd
         self.scene = scene
         self.model = scene.model
         self.data = scene.data
