@@ -73,10 +73,6 @@ class PlanExecutor:
         self.uav_noise = uav_noise
         self.executed = 0
         """Plans executed."""
-        self.crash_messages: list[str] = []
-        """``key: reason`` of executions that raised (the first few)."""
-        self.crashes = 0
-        """Executions that raised."""
         self._template: tuple[tuple[str, int], Scene] | None = None
         self._memo: dict[str, ExecutionSummary] = {}
         """Summaries of the current episode's plans: the simulation is deterministic, so the
@@ -98,16 +94,6 @@ class PlanExecutor:
         """Execute ``steps`` on the episode; an exception becomes a failed summary."""
         return self.run(episode, steps)[0]
 
-    def execute(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord:
-        """``record`` with its plan's execution summary (None when it has no plan to execute)."""
-        steps = record_plan(record)
-        if steps is None:
-            return record.model_copy(update={"execution": None})
-        summary, crash = self.run(episode, steps)
-        if crash is not None and len(self.crash_messages) < 5:
-            self.crash_messages.append(f"{record.key}: {crash}")
-        return record.model_copy(update={"execution": summary})
-
     def run(
         self, episode: Episode, steps: list[UavStep | ArmStep]
     ) -> tuple[ExecutionSummary, str | None]:
@@ -125,7 +111,6 @@ class PlanExecutor:
             )
             summary = ExecutionSummary.of(result)  # rejects a non-finite number
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
-            self.crashes += 1
             summary = crash_summary(exc, time.perf_counter() - start)
             return summary, summary.failure_reason
         self._memo[memo_key] = summary
