@@ -19,7 +19,6 @@ from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.runner.selection import select_episodes
-from vlm_bench.sim.gl_preload import preload_before_gl
 from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.storage import (
     RunStore,
@@ -167,9 +166,7 @@ def run_benchmark(
     backend_name = checked.name
     if backend_name == "rules" and not config.scene_as_text:
         raise ConfigError(NO_SCENE)
-    route_mujoco_log()
-    if checked.loads_model:
-        preload_before_gl()  # before the first snapshot creates an EGL context
+    route_mujoco_log()  # (the renderer preloads what must precede EGL: sim/gl_preload.py)
     cache_dir = (
         default_snapshot_cache(run_dir) if snapshot_cache is True else snapshot_cache or None
     )
