@@ -53,6 +53,8 @@ class SimLoop:
         self._robot_geom = np.zeros(self.model.ngeom, dtype=bool)
         self._robot_geom[robot_geom_ids(self.model)] = True
         self._touched: set[int] = set()
+        self._contacts_seen = b""
+        """The contact pairs :meth:`_record_contacts` last recorded (as bytes)."""
         uav = self.model.joint(UAV_FREEJOINT)
         self._uav_qpos = int(uav.qposadr[0])
         self._uav_dof = int(uav.dofadr[0])
@@ -124,10 +126,13 @@ class SimLoop:
             raise SimulatorUnstable(UNSTABLE)
 
     def _record_contacts(self) -> None:
-        ncon = self.data.ncon
-        if ncon == 0:
+        if not self.data.ncon:
             return
-        geoms = self.data.contact.geom[:ncon]
+        geoms = self.data.contact.geom
+        key = geoms.tobytes()
+        if key == self._contacts_seen:
+            return  # the previous step's contacts (objects at rest): recorded then
+        self._contacts_seen = key
         robot = self._robot_geom[geoms]
         mixed = robot[:, 0] != robot[:, 1]
         if mixed.any():
@@ -142,6 +147,7 @@ class SimLoop:
             for g in self._touched
         )
         self._touched.clear()
+        self._contacts_seen = b""
         return tuple(names)
 
     # ---- state ------------------------------------------------------------------------

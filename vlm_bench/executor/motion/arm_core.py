@@ -61,12 +61,19 @@ class ArmCore:
         :meth:`CollisionChecker.collisions`)."""
         return self.checker.collisions(self.loop.data, q, query)
 
-    def path_hits(self, q_from: FloatArray, q_to: FloatArray, query: CollisionQuery) -> int:
+    def path_hits(
+        self,
+        q_from: FloatArray,
+        q_to: FloatArray,
+        query: CollisionQuery,
+        limit: float = math.inf,
+    ) -> int:
         """Contacts along the joint-space move ``q_from`` → ``q_to`` (sampled every
         :data:`PATH_STEP` rad of the widest joint swing or :data:`PATH_TRAVEL` m of the TCP's
-        travel, whichever is closer, the end included) for ``query``."""
+        travel, whichever is closer, the end included) for ``query``, counted as
+        :meth:`hits_at` counts them."""
         samples = self.joint_samples(q_from, q_to, query.base, query.clearance)
-        return self.hits_at(samples, query)
+        return self.hits_at(samples, query, limit)
 
     def joint_samples(
         self,
@@ -87,10 +94,18 @@ class ArmCore:
         n = max(n, math.ceil(n * longest / max(PATH_TRAVEL, clearance)))
         return [q_from + (q_to - q_from) * k / n for k in range(1, n + 1)]
 
-    def hits_at(self, postures: Iterable[FloatArray], query: CollisionQuery) -> int:
-        """Contacts for ``query`` at each of ``postures``, summed."""
-        data = self.loop.data
-        return sum(len(self.checker.collisions(data, q, query)) for q in postures)
+    def hits_at(
+        self, postures: Iterable[FloatArray], query: CollisionQuery, limit: float = math.inf
+    ) -> int:
+        """Contacts for ``query`` at each of ``postures``, summed; the count stops at the
+        first posture that takes it over ``limit`` (``limit=0``: whether there is any), so a
+        caller that only needs to know it is over pays for no more checks."""
+        data, total = self.loop.data, 0
+        for q in postures:
+            total += len(self.checker.collisions(data, q, query))
+            if total > limit:
+                break
+        return total
 
     def near_limit(self, postures: Sequence[FloatArray], margin: float) -> bool:
         """Whether a joint comes within ``margin`` (rad) of its limit in one of ``postures``."""

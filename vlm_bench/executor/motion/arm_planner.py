@@ -124,6 +124,8 @@ class ArmPlanner:
         best_key = NO_PLAN
         for shift in self.assists(point) if assist is None else assist:
             turning = self.turn_hits(shift, now, held, carried)
+            if turning > best_key[0]:
+                continue  # every plan with this move makes more contacts than the best
             for rot in rotations:
                 for start in starts:
                     found = self._candidate(target, rot, start, shift, now, turning, best_key)
@@ -164,25 +166,28 @@ class ArmPlanner:
         carried = target.carried
         held = carried.geoms if carried is not None else set()
         way_in = CollisionQuery.of(held, target.gripper, shift, carried)
-        hits = turning + self.core.path_hits(now, q_start, way_in)
         margin = ik.limit_margin(q_start)
         widest = float(np.max(np.abs(q_start - now)))
-        hits += int(margin < MIN_MARGIN) + int(carried is not None and widest > HELD_SWING)
+        hits = turning + int(margin < MIN_MARGIN) + int(carried is not None and widest > HELD_SWING)
         swing = round(widest / SWING_BIN)
+        # Contacts are counted last and only as far as they can still beat the best plan.
+        hits += self.core.path_hits(now, q_start, way_in, limit=best_key[0] - hits)
         if hits and (hits, 0.0, swing, -margin) >= best_key:
             return None  # the way down only adds contacts: it cannot do better
         final = self._final_way(target, rot, q_start, q_end, shift)
         if final is None:
             return None  # IK loses the line
         way, q_end = final
-        down = CollisionQuery.of(target.ignore, target.gripper, shift, carried)
-        hits += self.core.hits_at(way, down)
         if margin >= MIN_MARGIN > ik.limit_margin(q_end):
             hits += 1
         margin = min(margin, ik.limit_margin(q_end))
         hits += int(min(ik.room(q_start)[0], ik.room(q_end)[0]) < target.turn_room)
+        down = CollisionQuery.of(target.ignore, target.gripper, shift, carried)
+        hits += self.core.hits_at(way, down, limit=best_key[0] - hits)
+        if hits > best_key[0]:
+            return None  # more contacts than the best plan
         graze = hits == 0 and bool(
-            target.clearance and self.core.hits_at(way, down.near(target.clearance))
+            target.clearance and self.core.hits_at(way, down.near(target.clearance), limit=0)
         )
         key = (float(hits), float(graze), float(swing), -margin)
         return Reach(q_start, rot, shift, q_end, hits), key

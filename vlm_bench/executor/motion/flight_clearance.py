@@ -108,7 +108,7 @@ class FlightClearance:
         if self.core.ik.limit_margin(q) < MIN_MARGIN or not clear(q):
             return False
         query = CollisionQuery.of(set(), GRIPPER_CLOSED, BaseMove.still(), self.core.carried())
-        if self.core.path_hits(now, q, query):
+        if self.core.path_hits(now, q, query, limit=0):
             return False
         joint_move(self.loop, q, 1.0, None, HELD_JOINT_SPEED)
         return True

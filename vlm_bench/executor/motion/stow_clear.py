@@ -36,7 +36,7 @@ def stow_clear(core: ArmCore, flight: FlightClearance) -> FloatArray:
     def clear(way: list[FloatArray], base: BaseMove) -> bool:
         legs = zip([now, *way[:-1]], way, strict=True)
         query = CollisionQuery.of(set(), grip, base, None, STOW_CLEARANCE)
-        return not any(core.path_hits(a, b, query) for a, b in legs)
+        return not any(core.path_hits(a, b, query, limit=0) for a, b in legs)
 
     for climb in (np.zeros(3), *CLIMBS):
         if climb.any() and not flight.flight_clear(climb):

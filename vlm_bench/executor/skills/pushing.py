@@ -222,7 +222,7 @@ class Pusher:
         if res <= IK_OK and not core.collisions(q_end, query):
             seconds = _stroke_seconds(start, end)
             way = lines.line_path(q_down, start, end, rot, q_end, shift, seconds)
-            if way is not None and not core.hits_at(way, query):
+            if way is not None and not core.hits_at(way, query, limit=0):
                 return PushPlan(q_pre, q_down, rot, shift, start, end, way[-1]), None
         moved = shift.plus(end - start)
         if not core.collisions(q_down, CollisionQuery.of(ignore, GRIPPER_CLOSED, moved)):
