@@ -35,9 +35,9 @@ SEED_POSTURES = (
 POS_TOL = 0.004  # m
 ROT_TOL = 0.03  # rad
 DT = 0.1  # s, integration step of mink's velocity solution
-STALL_AFTER = 60
+STALL_AFTER = 30
 """Iterations a solve always gets before it may give up where it stalls."""
-STALL_WINDOW = 30
+STALL_WINDOW = 15
 STALL_GAIN = 0.05
 """A solve stalls when its lowest residual fell by less than this fraction in the last
 :data:`STALL_WINDOW` iterations: most iterations go to solves that never converge, and the
