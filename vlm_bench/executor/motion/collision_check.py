@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import mujoco
 import numpy as np
@@ -31,9 +32,14 @@ class Carried:
     offset: FloatArray
     rotation: FloatArray
 
+    @cached_property
+    def frozen_geoms(self) -> frozenset[int]:
+        """:attr:`geoms` as a hashable set."""
+        return frozenset(self.geoms)
+
     def key(self) -> tuple[int, frozenset[int], bytes, bytes]:
         """Hashable identity of the carried pose (for the collision cache)."""
-        return (self.qadr, frozenset(self.geoms), self.offset.tobytes(), self.rotation.tobytes())
+        return (self.qadr, self.frozen_geoms, self.offset.tobytes(), self.rotation.tobytes())
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,6 +86,16 @@ class CollisionQuery:
         )
 
 
+@dataclass(frozen=True)
+class _Checker:
+    """A model copy collision checks run on, its scratch data, and the per-geom flags of what
+    moves with the robot there (its geoms and the held object's, as a list for fast lookup)."""
+
+    model: mujoco.MjModel
+    data: mujoco.MjData
+    own: list[bool]
+
+
 class CollisionChecker:
     """Collision queries on one scene, answered on scratch copies of its model.
 
@@ -89,18 +105,18 @@ class CollisionChecker:
 
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
-        self._checkers: dict[float, tuple[mujoco.MjModel, mujoco.MjData, bool]] = {}
+        self._checkers: dict[tuple[float, frozenset[int]], _Checker] = {}
         self._robot_mask = np.zeros(model.ngeom, dtype=bool)
         self._robot_mask[robot_geom_ids(model)] = True
+        self._robot = self._robot_mask.tolist()
         self._finger_qadr = np.array([model.joint(j).qposadr[0] for j in FINGER_JOINTS])
         self._arm_qadr = np.array([model.joint(j).qposadr[0] for j in ARM_JOINTS])
         self._uav_qadr = int(model.joint(UAV_FREEJOINT).qposadr[0])
         self._site = int(model.site(TCP_SITE).id)
-        self._no_geoms = np.zeros(0, dtype=np.int64)
         self._state = b""
         self._hits: dict[tuple[object, ...], tuple[int, ...]] = {}
         """Collision checks of the scene state ``_state`` (the planner repeats ~20 % exactly)."""
-        self._ignore_masks: dict[frozenset[int], NDArray[np.bool_]] = {}
+        self._ignore_flags: dict[frozenset[int], list[bool]] = {}
 
     def collisions(self, data: mujoco.MjData, q: FloatArray, query: CollisionQuery) -> list[int]:
         """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
@@ -125,7 +141,9 @@ class CollisionChecker:
         self, data: mujoco.MjData, q: FloatArray, query: CollisionQuery
     ) -> tuple[int, ...]:
         """:meth:`collisions` computed (no cache)."""
-        model, s, filtered = self._checker(query.clearance)
+        carried = query.carried
+        check = self._checker(query.clearance, carried)
+        model, s = check.model, check.data
         s.qpos[:] = data.qpos
         if query.base is not None:
             query.base.apply(s.qpos, self._uav_qadr)
@@ -133,9 +151,6 @@ class CollisionChecker:
         if query.gripper is not None:
             s.qpos[self._finger_qadr] = query.gripper
         mujoco.mj_kinematics(model, s)
-        held = self._no_geoms
-        own = self._robot_mask
-        carried = query.carried
         if carried is not None:
             tcp, rot = s.site_xpos[self._site], s.site_xmat[self._site].reshape(3, 3)
             quat = np.empty(4)
@@ -143,43 +158,42 @@ class CollisionChecker:
             s.qpos[carried.qadr : carried.qadr + 3] = tcp + rot @ carried.offset
             s.qpos[carried.qadr + 3 : carried.qadr + 7] = quat
             mujoco.mj_kinematics(model, s)
-            held = np.fromiter(carried.geoms, dtype=np.int64, count=len(carried.geoms))
-            own = own.copy()
-            own[held] = True
-            if filtered:
-                robot_side(model, held)  # the held object collides as the robot's geoms do
-        try:
-            mujoco.mj_collision(model, s)
-        finally:
-            if filtered and len(held):
-                world_side(model, held, self._robot_mask)
-        ignore = self._ignore_mask(query.ignore)
-        return contact_hits(s, query.clearance, own, self._robot_mask, ignore)
+        mujoco.mj_collision(model, s)
+        ignore = self._ignore(query.ignore)
+        return contact_hits(s, query.clearance, check.own, self._robot, ignore)
 
-    def _checker(self, clearance: float) -> tuple[mujoco.MjModel, mujoco.MjData, bool]:
-        """The model and scratch data collision checks run on: a copy of the scene's model
-        (made once per ``clearance``) that cannot report a pair of world geoms (see
-        :func:`robot_only_collisions`), whose geoms all have ``clearance`` (m) as collision
-        margin where it is positive; and whether its masks were set (else it reports all)."""
-        if clearance not in self._checkers:
-            check = copy.copy(self.model)
-            filtered = robot_only_collisions(check, self._robot_mask)
+    def _checker(self, clearance: float, carried: Carried | None) -> _Checker:
+        """The model collision checks with ``clearance`` and ``carried`` in the hand run on: a
+        copy of the scene's model (made once per clearance and held object) that cannot report
+        a pair of world geoms (see :func:`robot_only_collisions`), where the held object's
+        geoms collide as the robot's do, and whose geoms all have ``clearance`` (m) as collision
+        margin where it is positive."""
+        held = frozenset() if carried is None else carried.frozen_geoms
+        key = (clearance, held)
+        check = self._checkers.get(key)
+        if check is None:
+            model = copy.copy(self.model)
+            own = self._robot_mask.copy()
+            ids = np.fromiter(held, dtype=np.int64, count=len(held))
+            own[ids] = True
+            if robot_only_collisions(model, self._robot_mask):
+                robot_side(model, ids)
             if clearance > 0.0:
-                check.geom_margin[:] = np.maximum(check.geom_margin, clearance)
-            self._checkers[clearance] = (check, mujoco.MjData(check), filtered)
-        return self._checkers[clearance]
+                model.geom_margin[:] = np.maximum(model.geom_margin, clearance)
+            check = self._checkers[key] = _Checker(model, mujoco.MjData(model), own.tolist())
+        return check
 
-    def _ignore_mask(self, ignore: frozenset[int]) -> NDArray[np.bool_] | None:
+    def _ignore(self, ignore: frozenset[int]) -> list[bool] | None:
         """Per-geom flags of ``ignore`` (None when empty), made once per set."""
         if not ignore:
             return None
-        key = frozenset(ignore)
-        mask = self._ignore_masks.get(key)
-        if mask is None:
-            mask = np.zeros(self.model.ngeom, dtype=bool)
-            mask[list(key)] = True
-            self._ignore_masks[key] = mask
-        return mask
+        flags = self._ignore_flags.get(ignore)
+        if flags is None:
+            flags = [False] * self.model.ngeom
+            for g in ignore:
+                flags[g] = True
+            self._ignore_flags[ignore] = flags
+        return flags
 
 
 WORLD = (2, 1)
@@ -197,50 +211,44 @@ def robot_only_collisions(model: mujoco.MjModel, robot: NDArray[np.bool_]) -> bo
     types, affinities = model.geom_contype, model.geom_conaffinity
     if not np.all((types == affinities) & (types <= 1)):
         return False
-    world_side(model, np.flatnonzero(~robot), robot)
     robot_side(model, np.flatnonzero(robot))
+    world = np.flatnonzero(~robot & ((types | affinities) != 0))
+    model.geom_contype[world], model.geom_conaffinity[world] = WORLD
     return True
 
 
 def robot_side(model: mujoco.MjModel, geoms: NDArray[np.int64]) -> None:
-    """Make ``geoms`` (colliding ones) collide as the robot's (a held object)."""
+    """Make ``geoms`` (colliding ones) collide as the robot's (its own, a held object's)."""
     solid = geoms[(model.geom_contype[geoms] | model.geom_conaffinity[geoms]) != 0]
     model.geom_contype[solid], model.geom_conaffinity[solid] = ROBOT
-
-
-def world_side(model: mujoco.MjModel, geoms: NDArray[np.int64], robot: NDArray[np.bool_]) -> None:
-    """Make ``geoms`` (colliding, non-robot ones) collide as the world's again."""
-    colliding = (model.geom_contype[geoms] | model.geom_conaffinity[geoms]) != 0
-    solid = geoms[colliding & ~robot[geoms]]
-    model.geom_contype[solid], model.geom_conaffinity[solid] = WORLD
 
 
 def contact_hits(
     s: mujoco.MjData,
     clearance: float,
-    own: NDArray[np.bool_],
-    robot: NDArray[np.bool_],
-    ignore: NDArray[np.bool_] | None,
+    own: list[bool],
+    robot: list[bool],
+    ignore: list[bool] | None,
 ) -> tuple[int, ...]:
-    """The hits of :meth:`ArmIk.collisions` in ``s``'s contacts, in contact order: for each
-    contact within ``clearance`` of an ``own`` geom (the robot's or the held object's) with a
-    geom that is neither that nor in ``ignore``, that geom; for each penetrating contact of
-    two ``robot`` geoms, the first (per-geom flags)."""
-    n = s.ncon
-    if n == 0:
+    """The hits of :meth:`CollisionChecker.collisions` in ``s``'s contacts, in contact order:
+    for each contact within ``clearance`` of an ``own`` geom (the robot's or the held object's)
+    with a geom that is neither that nor in ``ignore``, that geom; for each penetrating contact
+    of two ``robot`` geoms, the first (per-geom flags). A plain loop: a check has a handful of
+    contacts, where numpy's per-call cost is most of the time."""
+    if s.ncon == 0:
         return ()
-    geom = s.contact.geom[:n]
-    dist = s.contact.dist[:n]
-    near = dist <= clearance
-    if not near.all():
-        geom, dist = geom[near], dist[near]
-    mine = own[geom]
-    jam = robot[geom[:, 0]] & robot[geom[:, 1]] & (dist <= 0.0)
-    other = np.where(mine[:, 0], geom[:, 1], geom[:, 0])
-    touch = mine[:, 0] != mine[:, 1]
-    if ignore is not None:
-        touch &= ~ignore[other]
-    return tuple(np.where(jam, geom[:, 0], other)[jam | touch].tolist())
+    contact = s.contact
+    hits = []
+    for (g0, g1), dist in zip(contact.geom.tolist(), contact.dist.tolist(), strict=True):
+        if not dist <= clearance:
+            continue
+        if robot[g0] and robot[g1] and dist <= 0.0:
+            hits.append(g0)
+        elif own[g0] != own[g1]:
+            other = g1 if own[g0] else g0
+            if ignore is None or not ignore[other]:
+                hits.append(other)
+    return tuple(hits)
 
 
 def _state_key(data: mujoco.MjData) -> bytes:
