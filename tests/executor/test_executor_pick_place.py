@@ -173,20 +173,13 @@ def test_a_glide_that_drives_a_joint_onto_its_limit_is_refused() -> None:
     assert result.exec_success, result.failure_reason
 
 
-def test_the_stow_keeps_the_wrist_out_of_the_uav() -> None:
+def test_the_stow_keeps_the_wrist_out_of_the_uav(sideways_hand: Hand) -> None:
     """From an arm reaching out sideways, the straight joint-space stow swings link 6
     through the UAV's body; the stow goes through a via posture and touches nothing."""
-    import mujoco
-    import numpy as np
+    from vlm_bench.sim.robot import robot_geom_ids
 
-    from vlm_bench.sim.robot import robot_geom_ids, set_arm_targets
-
-    loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
-    arm = Hand(loop)
-    out = np.array([1.65, -1.75, 2.55, -2.56, -0.61, 1.28, -1.33])  # the arm put there
-    loop.data.qpos[arm.core.ik.qadr] = out
-    set_arm_targets(loop.model, loop.data, out, c.GRIPPER_OPEN)
-    mujoco.mj_forward(loop.model, loop.data)
+    arm, loop = sideways_hand, sideways_hand.loop
+    out = arm_qpos(loop.model, loop.data)  # the arm put out sideways
     stowed = np.asarray(c.ARM_STOW)
     query = CollisionQuery.of(set(), c.GRIPPER_OPEN, BaseMove.still())
     assert arm.core.path_hits(out, stowed, query) > 0

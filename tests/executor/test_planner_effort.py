@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-import mujoco
 import numpy as np
 import pytest
 
@@ -19,27 +18,16 @@ from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.sim import constants as c
-from vlm_bench.sim.robot import set_arm_targets
+from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.sim.scene import build_scene
 from vlm_bench.types.base import FloatArray
 
-_SIDEWAYS = np.array([1.65, -1.75, 2.55, -2.56, -0.61, 1.28, -1.33])
-"""An arm reaching out sideways: the straight stow from here swings through the UAV."""
-
-
-def _loop_with_the_arm_out() -> tuple[SimLoop, Hand]:
-    loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
-    hand = Hand(loop)
-    loop.data.qpos[hand.core.ik.qadr] = _SIDEWAYS
-    set_arm_targets(loop.model, loop.data, _SIDEWAYS, c.GRIPPER_OPEN)
-    mujoco.mj_forward(loop.model, loop.data)
-    return loop, hand
-
 
 def test_counting_contacts_up_to_a_limit_stops_at_the_first_posture_over_it(
-    monkeypatch: pytest.MonkeyPatch,
+    sideways_hand: Hand, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    _loop, hand = _loop_with_the_arm_out()
+    hand = sideways_hand
+    out = arm_qpos(hand.loop.model, hand.loop.data)  # the arm put out sideways
     query = CollisionQuery.of(set(), c.GRIPPER_OPEN, BaseMove.still())
     stowed = np.asarray(c.ARM_STOW)
     calls: list[int] = []
@@ -50,15 +38,15 @@ def test_counting_contacts_up_to_a_limit_stops_at_the_first_posture_over_it(
         return checks(self, *args)  # type: ignore[arg-type]
 
     monkeypatch.setattr(CollisionChecker, "collisions", counted)
-    full = hand.core.path_hits(_SIDEWAYS, stowed, query)
+    full = hand.core.path_hits(out, stowed, query)
     full_checks = len(calls)
     calls.clear()
-    anyhit = hand.core.path_hits(_SIDEWAYS, stowed, query, limit=0)
+    anyhit = hand.core.path_hits(out, stowed, query, limit=0)
     assert full > 1
     assert 0 < anyhit <= full
     assert len(calls) < full_checks  # it stopped where the count went over
-    assert hand.core.path_hits(_SIDEWAYS, stowed, query, limit=full) == full
-    assert hand.core.path_hits(_SIDEWAYS, stowed, query, limit=full - 1) == full
+    assert hand.core.path_hits(out, stowed, query, limit=full) == full
+    assert hand.core.path_hits(out, stowed, query, limit=full - 1) == full
 
 
 def test_pruned_planning_replays_as_full_counting_does(monkeypatch: pytest.MonkeyPatch) -> None:
