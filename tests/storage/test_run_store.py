@@ -265,7 +265,7 @@ def test_a_folder_holding_other_files_is_not_taken_over(tmp_path: Path) -> None:
 
 def test_a_manifest_from_before_loc_alignment_loads_as_order_and_keeps_its_hash() -> None:
     new = run_config(model="oracle", seeds=(0, 1))
-    assert new.scoring.loc_alignment == "segment"
+    assert new.scoring.loc_alignment == "content"
     data = _manifest_for(new)("run").model_dump(mode="json")
     del data["config"]["scoring"]["loc_alignment"]  # as a manifest of an earlier release
     old = RunManifest.model_validate(data)
