@@ -29,6 +29,7 @@ from vlm_bench.storage import (
     package_versions,
 )
 from vlm_bench.storage.provenance import machine
+from vlm_bench.types.benchmark_version import require_current_version
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.records import EpisodeRecord, utc_now
 from vlm_bench.types.run import RunConfig, RunManifest
@@ -153,9 +154,12 @@ def run_benchmark(
         UnknownNameError: Unknown task ids.
         RunLockedError: Another process writes the folder.
         ConfigMismatchError: The folder holds a run with another configuration.
+        BenchmarkVersionError: The config asks for another benchmark version than this
+            release's.
     """
     from vlm_bench.sim.environment import OFFSCREEN_SIZE
 
+    require_current_version(config.benchmark_version, "the run's config")
     if config.resolution > OFFSCREEN_SIZE:
         raise ConfigError(
             f"resolution {config.resolution} exceeds the simulator's offscreen "
