@@ -37,7 +37,7 @@ def test_an_old_run_beside_a_new_one_is_refused_in_one_line(
     message = str(info.value)
     assert "\n" not in message
     assert f"new (version {BENCHMARK_VERSION})" in message
-    assert "run_v1 (version 1 (not recorded))" in message
+    assert "run_v1 (version 1, from before versions were recorded)" in message
     assert "--mixed-versions" in message
 
 
@@ -77,7 +77,10 @@ def test_report_cli_refuses_and_accepts_mixed_versions(
     assert done.returncode == 2, done.stdout + done.stderr
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: runs of different benchmark versions")
-    assert "new (version 2)" in lines[0] and "run_v1 (version 1 (not recorded))" in lines[0]
+    assert (
+        "new (version 2)" in lines[0]
+        and "run_v1 (version 1, from before versions were recorded)" in lines[0]
+    )
     out = cli.invoke(
         "report",
         new,

@@ -75,7 +75,7 @@ def test_a_version_1_run_is_not_resumed_by_this_release(tmp_path: Path) -> None:
 
 
 def test_a_run_of_another_version_is_refused_before_a_folder_is_made(tmp_path: Path) -> None:
-    with pytest.raises(BenchmarkVersionError, match=r"version 1 .* evaluates version 2") as info:
+    with pytest.raises(BenchmarkVersionError, match=r"version 1, .* evaluates version 2") as info:
         vlm_bench.run(
             model="oracle", tasks=("tower_stacking",), benchmark_version=1, out=tmp_path / "r"
         )
@@ -88,7 +88,8 @@ def test_rescore_refuses_a_run_of_another_version(tmp_path: Path) -> None:
     shutil.copytree(RUN_V1, copy)
     before = (copy / "records.jsonl").read_bytes()
     with pytest.raises(
-        BenchmarkVersionError, match=r"run_v1 is benchmark version 1 \(not recorded\)"
+        BenchmarkVersionError,
+        match="run_v1 is benchmark version 1, from before versions were recorded",
     ):
         vlm_bench.rescore(copy)
     assert (copy / "records.jsonl").read_bytes() == before

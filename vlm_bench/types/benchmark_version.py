@@ -26,8 +26,12 @@ class BenchmarkVersionError(ConfigError):
 
 
 def version_label(version: int) -> str:
-    """``2``, or ``1 (not recorded)`` for the version of manifests that predate versions."""
-    return f"{version} (not recorded)" if version == FIRST_VERSION else str(version)
+    """``2``, or ``1, from before versions were recorded`` (what version 1 is)."""
+    return (
+        f"{version}, from before versions were recorded"
+        if version == FIRST_VERSION
+        else str(version)
+    )
 
 
 def check_one_version(runs: Sequence[tuple[str, int]], *, hint: str) -> None:
@@ -60,7 +64,7 @@ def require_current_version(version: int, what: str) -> None:
     """
     if version != BENCHMARK_VERSION:
         raise BenchmarkVersionError(
-            f"{what} is benchmark version {version_label(version)}, but this release evaluates "
+            f"{what} is benchmark version {version_label(version)}; this release evaluates "
             f"version {BENCHMARK_VERSION} (other tasks, ground truth, prompts or metrics; "
             "docs/benchmark-versions.md): use the release that made it, or run the model again"
         )
