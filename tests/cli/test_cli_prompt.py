@@ -83,7 +83,7 @@ def test_cli_prints_the_prompt_and_writes_the_views(cli: Cli, tmp_path: Path) ->
 
 
 def test_cli_conditions_change_the_prompt(cli: Cli, tmp_path: Path) -> None:
-    base = ["prompt", TASK, "--seed", str(SEED), "--resolution", "32"]
+    base = ["prompt", TASK, "--seed", str(SEED), "--resolution", "32", "--no-snapshot-cache"]
     plain = cli.invoke(*base, "--no-images")
     assert "<image:" not in plain and "Objects in the scene:" in plain
     text = cli.invoke(*base, "--scene-as-text", "--no-object-list", "--k-shot", "0")
