@@ -120,3 +120,11 @@ def test_common_subsequence_ties_go_to_the_earliest_pairs() -> None:
 def test_default_is_content() -> None:
     assert ScoringConfig().loc_alignment == "content"
     assert score([], GT).loc_credit == (0, 0, 0)
+
+
+def test_a_repeated_arm_step_is_matched_at_its_first_occurrence() -> None:
+    gt: Gt = [UavStep(direction=D.FRONT), ArmStep(object="cube", skill="pick")]
+    pred = [arm("pick", "cube"), uav("front"), arm("pick", "cube")]
+    # Ties go to the earliest: the GT pick meets the first predicted pick, whose segment is
+    # empty → front 0 (docs/metrics.md states this price of the tie rule).
+    assert credits(pred, gt, "content") == [0]
