@@ -29,12 +29,14 @@ if TYPE_CHECKING:
 
     from vlm_bench.backends import Backend
     from vlm_bench.runner import PipelineStats
+    from vlm_bench.runner.episode_request import PromptPreview
     from vlm_bench.runner.single_replay import Replay
 
 __all__ = [
     "RunConfig",
     "RunResult",
     "load_run",
+    "preview_prompt",
     "replay",
     "rescore",
     "run",
@@ -179,6 +181,46 @@ def load_run(run_dir: Path | str) -> RunResult:
     frame = records_frame(records, {manifest.run_id: manifest.config.execute})
     stats = PipelineStats(total=len(records))
     return RunResult(paths.root, manifest, records, summary_long(frame), stats)
+
+
+def preview_prompt(
+    task_id: str,
+    seed: int,
+    instruction: InstructionVariant = "explicit",
+    *,
+    snapshot_cache: Path | bool | None = True,
+    **options: Any,
+) -> PromptPreview:
+    """The prompt and request a run sends for one episode, built by the run's own code.
+
+    Args:
+        task_id: Task id.
+        seed: Episode seed.
+        instruction: Instruction variant.
+        snapshot_cache: PNG cache folder; True = the one runs under ``results/`` share (or
+            ``VLM_BENCH_SNAPSHOT_CACHE``); False/None = render.
+        **options: The run's prompt options as :class:`RunConfig` fields (``views``,
+            ``resolution``, ``k_shot``, ``object_list``, ``images``, ``scene_as_text``,
+            ``generation``, ...).
+
+    Returns:
+        :class:`~vlm_bench.runner.episode_request.PromptPreview`: ``.text()`` shows the system
+        and user turns, ``.request`` is what the backend gets, ``.write_images(folder)``.
+
+    Raises:
+        ConfigError: An invalid option. UnknownNameError: An unknown task.
+    """
+    from vlm_bench.resources import results_dir
+    from vlm_bench.runner.episode_request import preview_request
+    from vlm_bench.storage import default_snapshot_cache
+
+    fields = {"model": "preview", **options}
+    config = run_config(tasks=(task_id,), seeds=(seed,), instructions=(instruction,), **fields)
+    if snapshot_cache is True:
+        cache: Path | None = default_snapshot_cache(results_dir() / "preview")  # shared
+    else:
+        cache = Path(snapshot_cache) if snapshot_cache else None
+    return preview_request(config, cache)
 
 
 def replay(

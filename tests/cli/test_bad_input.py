@@ -487,6 +487,15 @@ def _bad_values(tmp: Path) -> dict[str, list[list[str]]]:
         ],
         "report": [[missing], [str(tmp / "afile")]],
         "models": [["nope"]],
+        "prompt": [
+            ["nope"],
+            [TASK, "--seed", "x"],
+            [TASK, "--views", "uav,top"],
+            [TASK, "--instruction", "both"],
+            [TASK, "--resolution", "0"],
+            [TASK, "--k-shot", "-1"],
+            [TASK, "--out", str(tmp / "afile")],
+        ],
     }
 
 

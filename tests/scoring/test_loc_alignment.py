@@ -1,6 +1,8 @@
-"""S_loc pairing by segment (default) and by order (docs/design.md#metrics); hand-computed,
-arithmetic in the comments. Segment k = the UAV moves before the k-th ARM step; the trailing
-segment = the moves after the last one."""
+"""S_loc pairing by segment and by order (docs/metrics.md#s_loc); hand-computed, arithmetic in
+the comments. Segment k = the UAV moves before the k-th ARM step; the trailing segment = the
+moves after the last one. The default, content, matches ARM steps on (skill, object): where
+the predicted ARM steps are the GT's, as here unless a test names an alignment, it pairs the
+segments as ``segment`` does (tests/scoring/test_loc_content.py has the cases that differ)."""
 
 from __future__ import annotations
 
@@ -73,7 +75,8 @@ PICK_PLACE_GT: Gt = [
 
 
 def test_drawer_missing_up_by_segment() -> None:
-    s = score(DRAWER_PRED, DRAWER_GT)
+    s = score(DRAWER_PRED, DRAWER_GT, loc_alignment="segment")
+    assert s == score(DRAWER_PRED, DRAWER_GT)  # content: the same ARM step
     # Segment 0: GT horizontal [frontleft] vs predicted [frontleft] → 100;
     # GT vertical [up] vs predicted [] → 0. Credits in GT order (up, frontleft) = (0, 100).
     assert s.loc_credit == (0, 100) and s.n_move == 2
@@ -95,7 +98,7 @@ def test_three_segments() -> None:
     # Segments: GT [right] | [front] | [up, left] | [] ; predicted [right] | [] | [left] | [].
     # right–right 100; front–nothing 0; left–left 100 and up–nothing 0 (vertical apart).
     # Credits in GT order (right, front, up, left) = (100, 0, 0, 100) → S_loc = 200/4 = 50
-    s = score(THREE_PRED, THREE_GT)
+    s = score(THREE_PRED, THREE_GT, loc_alignment="segment")
     assert s.loc_credit == (100, 0, 0, 100) and s.s_loc == 50
     # By order, predicted moves [right, left]: right–right 100, front–left 0 (90°),
     # up–none 0, left–none 0 → 100/4 = 25
@@ -202,12 +205,13 @@ def test_one_credit_per_gt_move_in_gt_order() -> None:
 
 
 def test_config_default_and_old_configs() -> None:
-    assert ScoringConfig().loc_alignment == "segment"
+    assert ScoringConfig().loc_alignment == "content"
     assert ScoringConfig(loc_alignment="order").loc_alignment == "order"
+    assert ScoringConfig(loc_alignment="segment").loc_alignment == "segment"
     # A ScoringConfig saved before the field existed loads with the default.
     weights = {"plan": 0.25, "loc": 0.25, "obj": 0.25, "skill": 0.25}
     old = {"alpha": 0.5, "weights": weights, "neighbour_credit": 40.0, "empty_gt": "strict"}
-    assert ScoringConfig.model_validate(old).loc_alignment == "segment"
+    assert ScoringConfig.model_validate(old).loc_alignment == "content"
     config = ScoringConfig(loc_alignment="order")
     assert ScoringConfig.model_validate_json(config.model_dump_json()) == config
     with pytest.raises(ValidationError):

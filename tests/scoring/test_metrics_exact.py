@@ -122,8 +122,12 @@ def test_hallucinated_object() -> None:
     # S_obj = 100·max(0, (1 − 1)/2) = 0
     assert (s.m_obj, s.k_obj, s.n_obj) == (1, 1, 2)
     assert s.s_obj == 0
-    assert s.s_plan == 100 and s.s_loc == 100 and s.s_skill == 100
-    assert s.s_total == 75
+    assert s.s_plan == 100 and s.s_skill == 100
+    # S_loc (content): "place ghost" matches no GT ARM step, so the GT move before "place
+    # basket" has no partner segment: credits (100, 0) → 50. By segment (order of ARM steps): 100.
+    assert s.loc_credit == (100, 0) and s.s_loc == 50
+    assert s.s_total == 0.25 * (100 + 50 + 0 + 100)  # 62.5
+    assert score_plan(parsed, gt, ScoringConfig(loc_alignment="segment")).s_loc == 100
     assert s.error_types == (ErrorType.WRONG_OBJECT,)
 
 
@@ -173,7 +177,10 @@ def test_invalid_step_counts_toward_k_and_matches_nothing() -> None:
     assert (s.m_obj, s.k_obj) == (1, 1) and s.s_obj == 0
     # Valid ARM skills {place} cover 1 of {pick, place} → 50
     assert (s.m_skill, s.n_skill) == (1, 2) and s.s_skill == 50
-    assert s.s_total == pytest.approx(0.25 * (100 * (1 / 3 + 0.5) + 100 + 0 + 50))
+    # S_loc (content): the invalid step matches no GT ARM step, so "front" (before the GT
+    # pick) has no partner → 0. By segment the invalid step is the 1st ARM step → 100.
+    assert s.s_loc == 0 and score(pred, GT3, loc_alignment="segment").s_loc == 100
+    assert s.s_total == pytest.approx(0.25 * (100 * (1 / 3 + 0.5) + 0 + 0 + 50))
     assert s.error_types == (ErrorType.WRONG_SKILL,)
 
 
@@ -211,7 +218,12 @@ def test_invalid_uav_step_occupies_its_index() -> None:
 def test_wrong_order() -> None:
     pred = [uav("front"), arm("place", "basket"), arm("pick", "cube")]
     s = score(pred, GT3)
-    # Types match position by position, same multisets: every score is 100, yet no Succ.
+    # Types match position by position, same multisets: S_plan, S_obj, S_skill are 100.
+    # S_loc (content): one ARM step matches (ties to the earliest GT step: pick cube, the 2nd
+    # predicted ARM step, with no move before it), so "front" scores 0 → S_total 75.
+    assert (s.s_plan, s.s_loc, s.s_obj, s.s_skill, s.s_total) == (100, 0, 100, 100, 75)
+    # By segment (ARM steps by order) front meets front: every score is 100, yet no Succ.
+    s = score(pred, GT3, loc_alignment="segment")
     assert (s.s_plan, s.s_loc, s.s_obj, s.s_skill, s.s_total) == (100, 100, 100, 100, 100)
     assert not s.succ
     assert s.error_types == (ErrorType.WRONG_ORDER,)

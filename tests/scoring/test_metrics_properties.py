@@ -126,12 +126,12 @@ def test_succ_iff_same_plan(pred: list[UavStep | ArmStep], gt: list[UavStep | Ar
         assert s.error_types != ()
 
 
-alignments = st.sampled_from(["segment", "order"])
+alignments = st.sampled_from(["content", "segment", "order"])
 
 
 @settings(max_examples=200, deadline=None)
 @given(plans, alignments)
-def test_gt_against_itself_gets_full_s_loc_under_both_alignments(
+def test_gt_against_itself_gets_full_s_loc_under_every_alignment(
     gt: list[UavStep | ArmStep], alignment: str
 ) -> None:
     parsed = parse_plan(json.dumps(plan_to_json(gt)), IDS)
@@ -141,7 +141,7 @@ def test_gt_against_itself_gets_full_s_loc_under_both_alignments(
 
 @settings(max_examples=300, deadline=None)
 @given(predictions, plans, configs, alignments)
-def test_s_loc_stays_in_range_under_both_alignments(
+def test_s_loc_stays_in_range_under_every_alignment(
     pred: list[Any], gt: list[UavStep | ArmStep], config: ScoringConfig, alignment: str
 ) -> None:
     config = config.model_copy(update={"loc_alignment": alignment})
@@ -172,3 +172,37 @@ def test_order_alignment_is_the_old_pairing(pred: list[Any], gt: list[UavStep | 
     assert loc_credits(steps, gt, 40.0, "order") == expected
     s = score_plan(parsed, gt, ScoringConfig(loc_alignment="order"))
     assert s.loc_credit == tuple(expected)
+
+
+@settings(max_examples=200, deadline=None)
+@given(plans, st.lists(st.lists(st.sampled_from(list(Direction)), max_size=3), max_size=12))
+def test_content_pairs_like_segment_when_the_arm_steps_are_the_gts(
+    gt: list[UavStep | ArmStep], moves: list[list[Direction]]
+) -> None:
+    # The prediction keeps the GT's ARM steps and puts any moves around them.
+    arms = [g for g in gt if isinstance(g, ArmStep)]
+    pred: list[UavStep | ArmStep] = []
+    for k in range(len(arms) + 1):
+        pred += [UavStep(direction=d) for d in (moves[k] if k < len(moves) else [])]
+        pred += arms[k : k + 1]
+    steps = parse_plan(json.dumps(plan_to_json(pred)), IDS).steps
+    assert loc_credits(steps, gt, 40.0, "content") == loc_credits(steps, gt, 40.0, "segment")
+
+
+@settings(max_examples=200, deadline=None)
+@given(plans, st.integers(0, 9), arm_steps())
+def test_an_inserted_arm_step_keeps_content_s_loc_at_100(
+    gt: list[UavStep | ArmStep], where: int, extra: ArmStep
+) -> None:
+    # The GT with one ARM step of other content inserted where no move precedes it (one there
+    # would be cut off from its own ARM step): the GT's ARM steps are the only longest common
+    # subsequence, every GT move keeps its segment, and S_loc stays 100.
+    if any(
+        isinstance(g, ArmStep) and (g.skill, g.object) == (extra.skill, extra.object) for g in gt
+    ):
+        return
+    places = [i for i in range(len(gt) + 1) if i == 0 or isinstance(gt[i - 1], ArmStep)]
+    at = places[where % len(places)]
+    pred = [*gt[:at], extra, *gt[at:]]
+    s = score_plan(parse_plan(json.dumps(plan_to_json(pred)), IDS), gt)
+    assert s.s_loc == 100, (pred, s.loc_credit)

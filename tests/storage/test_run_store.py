@@ -180,13 +180,18 @@ def test_config_hash_is_canonical_and_sensitive() -> None:
 def test_configs_of_earlier_releases_keep_their_hash() -> None:
     # Before plan execution existed every run had execute=False and no uav_noise; such a
     # config still hashes as it did then (pinned), so its default run folder is unchanged.
-    # S_loc was paired by order then (loc_alignment="order").
+    # S_loc was paired by order then (loc_alignment="order"), in benchmark version 1.
     old = run_config(
-        model="oracle", seeds=(0, 1), execute=False, scoring=ScoringConfig(loc_alignment="order")
+        model="oracle",
+        seeds=(0, 1),
+        execute=False,
+        scoring=ScoringConfig(loc_alignment="order"),
+        benchmark_version=1,
     )
     assert old.config_hash().startswith("e4a433ac133d1e2a")
     assert "uav_noise" not in old.hashed_fields()
     assert "loc_alignment" not in old.hashed_fields()["scoring"]
+    assert "benchmark_version" not in old.hashed_fields()
     assert run_config(model="oracle", seeds=(0, 1)).short_hash() != old.short_hash()
 
 
@@ -265,7 +270,7 @@ def test_a_folder_holding_other_files_is_not_taken_over(tmp_path: Path) -> None:
 
 def test_a_manifest_from_before_loc_alignment_loads_as_order_and_keeps_its_hash() -> None:
     new = run_config(model="oracle", seeds=(0, 1))
-    assert new.scoring.loc_alignment == "segment"
+    assert new.scoring.loc_alignment == "content"
     data = _manifest_for(new)("run").model_dump(mode="json")
     del data["config"]["scoring"]["loc_alignment"]  # as a manifest of an earlier release
     old = RunManifest.model_validate(data)

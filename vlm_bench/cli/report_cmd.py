@@ -68,6 +68,12 @@ def report(
     ] = True,
     n_boot: Annotated[int, typer.Option(help="Bootstrap replicates.")] = 2000,
     seed: Annotated[int, typer.Option(help="Bootstrap seed.")] = 0,
+    mixed_versions: Annotated[
+        bool,
+        typer.Option(
+            "--mixed-versions", help="Put runs of different benchmark versions in one table."
+        ),
+    ] = False,
 ) -> None:
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
     from vlm_bench.report.make import build_report, render_tables, write_outputs
@@ -90,6 +96,7 @@ def report(
         render_missing=render,
         n_boot=n_boot,
         seed=seed,
+        mixed_versions=mixed_versions,
     )
     result = build_report(options)
     tables: str | bytes | None = None

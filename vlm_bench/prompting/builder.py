@@ -96,7 +96,7 @@ def _rank(key: str, item: str) -> bytes:
 
 def object_order(episode: Episode) -> list[str]:
     """The episode's object and part ids in a seeded shuffled order (the same for both
-    instruction variants), so that no list puts the target first."""
+    instruction variants): the target comes first only as often as chance gives."""
     key = episode_key(episode)
     return sorted(episode.object_ids(), key=lambda item: _rank(key, item))
 

@@ -18,6 +18,7 @@ from vlm_bench.errors import ConfigError
 from vlm_bench.report.dataframe import records_frame
 from vlm_bench.report.groups import paper_grouping
 from vlm_bench.storage import RunPaths, latest_records, read_manifest
+from vlm_bench.types.benchmark_version import check_one_version
 from vlm_bench.types.plan import Direction
 from vlm_bench.types.records import EpisodeRecord
 from vlm_bench.types.run import RunManifest
@@ -39,6 +40,7 @@ SETTINGS = (
     "loc_alignment",
     "execute",
     "uav_noise",
+    "benchmark_version",
     "config_hash",
     "git_revision",
 )
@@ -57,6 +59,9 @@ DERIVED = (
 """Columns derived per episode: ``run`` (the folder's name, made unique), its path, the paper's
 table column (:mod:`vlm_bench.report.groups`), the GT's and the prediction's first horizontal
 UAV move (the sector S_loc is hardest on), the step counts and the parser's repairs."""
+
+MIXED_VERSIONS_HINT = "compare runs of one version, or pass --mixed-versions (mixed_versions=True)"
+"""How to put runs of different benchmark versions in one table anyway."""
 
 _HORIZONTAL = {d.value for d in Direction if d.is_horizontal}
 
@@ -129,6 +134,7 @@ def settings_of(manifest: RunManifest) -> dict[str, Any]:
         "loc_alignment": config.scoring.loc_alignment,
         "execute": config.execute,
         "uav_noise": config.uav_noise,
+        "benchmark_version": config.benchmark_version,
         "config_hash": manifest.config_hash[:8],
         "git_revision": manifest.git_revision or "",
     }
@@ -152,9 +158,8 @@ def _derived(record: EpisodeRecord) -> dict[str, Any]:
     }
 
 
-def _run_frame(path: Path, label: str) -> pd.DataFrame:
+def _run_frame(path: Path, label: str, manifest: RunManifest) -> pd.DataFrame:
     paths = RunPaths(path)
-    manifest = read_manifest(paths)
     records = latest_records(paths.records)
     # Records carry the run id of the folder they were written in; a copied or renamed folder
     # keeps them, so the settings are keyed by the records' ids.
@@ -175,11 +180,13 @@ def _run_frame(path: Path, label: str) -> pd.DataFrame:
     return pd.concat([frame, extra], axis=1)
 
 
-def load(*runs: str | Path) -> pd.DataFrame:
+def load(*runs: str | Path, mixed_versions: bool = False) -> pd.DataFrame:
     """One row per episode of the given run folders (the latest record of each episode).
 
     Args:
         *runs: Run folders or glob patterns (``results/*``).
+        mixed_versions: Accept runs of different benchmark versions (their scores are not
+            comparable; the ``benchmark_version`` column tells them apart).
 
     Returns:
         The columns of :data:`vlm_bench.report.dataframe.COLUMNS`, then :data:`SETTINGS` and
@@ -188,9 +195,16 @@ def load(*runs: str | Path) -> pd.DataFrame:
     Raises:
         ConfigError: A missing folder, or one that is no run.
         DataFileError: A corrupted manifest or ``records.jsonl`` (names the file and line).
+        BenchmarkVersionError: Runs of different benchmark versions, unless ``mixed_versions``
+            (names every run and its version).
     """
     paths = resolve_runs(runs)
-    frames = [_run_frame(p, label) for p, label in zip(paths, run_labels(paths), strict=True)]
+    labels = run_labels(paths)
+    manifests = [read_manifest(RunPaths(p)) for p in paths]
+    if not mixed_versions:
+        versions = [m.config.benchmark_version for m in manifests]
+        check_one_version(list(zip(labels, versions, strict=True)), hint=MIXED_VERSIONS_HINT)
+    frames = [_run_frame(*run) for run in zip(paths, labels, manifests, strict=True)]
     frame = pd.concat(frames, ignore_index=True)
     frame["paper_column"] = frame["task_id"].map(paper_grouping().task_map or {})
     return frame

@@ -94,10 +94,12 @@ def build_report(options: ReportOptions) -> Report:
         ConfigError / UnknownNameError: A missing run folder, unknown ``--by`` column or
             ``--paired`` system, or an output path that cannot be written.
         MissingExtraError: Parquet without pyarrow, plots without matplotlib.
+        BenchmarkVersionError: Runs of different benchmark versions without
+            ``mixed_versions``.
     """
     _check_paths(options)
     _check_extras(options)
-    frame = load(*options.runs)
+    frame = load(*options.runs, mixed_versions=options.mixed_versions)
     by = list(options.by)
     _check_by(frame, options.by)
     names = ["suites", "paper"] if options.grouping == "both" else [options.grouping]

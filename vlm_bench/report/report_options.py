@@ -56,6 +56,9 @@ class ReportOptions(Frozen):
     n_boot: int = Field(default=2000, ge=100, le=100_000, description="Bootstrap replicates.")
     seed: int = Field(default=0, ge=0, description="Bootstrap seed.")
     level: float = Field(default=0.95, gt=0.5, lt=1.0, description="Interval coverage.")
+    mixed_versions: bool = Field(
+        default=False, description="Accept runs of different benchmark versions in one table."
+    )
 
     @model_validator(mode="after")
     def _consistent(self) -> ReportOptions:

@@ -13,7 +13,8 @@ from vlm_bench.backends import Backend, resolve_backend
 from vlm_bench.backends.preflight import BackendCheck, check_backend, loads_model_in_process
 from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
-from vlm_bench.runner.cached_snapshots import SnapshotSource
+from vlm_bench.runner.cached_snapshots import SnapshotSource, check_resolution
+from vlm_bench.runner.episode_request import run_snapshots
 from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
@@ -29,6 +30,7 @@ from vlm_bench.storage import (
     package_versions,
 )
 from vlm_bench.storage.provenance import machine
+from vlm_bench.types.benchmark_version import require_current_version
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.records import EpisodeRecord, utc_now
 from vlm_bench.types.run import RunConfig, RunManifest
@@ -114,8 +116,7 @@ def _check_backend(config: RunConfig, given: Backend | None) -> BackendCheck:
 @contextmanager
 def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[SnapshotSource]:
     cache = SnapshotCache(cache_dir) if cache_dir is not None else None
-    views = config.views if config.images else ()
-    source = SnapshotSource(views, config.resolution, config.labels, cache)
+    source = run_snapshots(config, cache)
     try:
         yield source
     finally:
@@ -153,14 +154,11 @@ def run_benchmark(
         UnknownNameError: Unknown task ids.
         RunLockedError: Another process writes the folder.
         ConfigMismatchError: The folder holds a run with another configuration.
+        BenchmarkVersionError: The config asks for another benchmark version than this
+            release's.
     """
-    from vlm_bench.sim.environment import OFFSCREEN_SIZE
-
-    if config.resolution > OFFSCREEN_SIZE:
-        raise ConfigError(
-            f"resolution {config.resolution} exceeds the simulator's offscreen "
-            f"buffer; use at most {OFFSCREEN_SIZE}"
-        )
+    require_current_version(config.benchmark_version, "the run's config")
+    check_resolution(config.resolution)
     refs = select_episodes(config)
     checked = _check_backend(config, backend)  # before the folder is written
     backend_name = checked.name

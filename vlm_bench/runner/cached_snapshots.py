@@ -15,6 +15,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from vlm_bench.errors import ConfigError
 from vlm_bench.resources import ground_truth_dir
 from vlm_bench.storage import SnapshotCache
 from vlm_bench.storage.provenance import folder_digest
@@ -40,6 +41,21 @@ def renderer_digest() -> str:
         hashlib.sha256(world.read_bytes()).hexdigest() if world.exists() else "",
     ]
     return hashlib.sha256("|".join(parts).encode()).hexdigest()
+
+
+def check_resolution(size: int) -> None:
+    """Refuse a snapshot size the simulator's offscreen buffer cannot render.
+
+    Raises:
+        ConfigError: Names the size and the largest one.
+    """
+    from vlm_bench.sim.environment import OFFSCREEN_SIZE
+
+    if size > OFFSCREEN_SIZE:
+        raise ConfigError(
+            f"resolution {size} exceeds the simulator's offscreen buffer; use at most "
+            f"{OFFSCREEN_SIZE}"
+        )
 
 
 def snapshot_key(episode: Episode, size: int, labels: bool) -> str:

@@ -18,9 +18,8 @@ from dataclasses import dataclass, field
 from vlm_bench.backends import Backend
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import VlmBenchError
-from vlm_bench.parsing import plan_json_schema
-from vlm_bench.prompting import build_prompt
 from vlm_bench.runner.cached_snapshots import SnapshotSource
+from vlm_bench.runner.episode_request import episode_request
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
 from vlm_bench.runner.interrupt import StopFlag
 from vlm_bench.runner.progress import RunProgress
@@ -29,7 +28,7 @@ from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.generation import GenerationRequest, GenerationResult, RequestMeta
+from vlm_bench.types.generation import GenerationRequest, GenerationResult
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig
 
@@ -158,24 +157,8 @@ class EpisodePipeline:
 
     def _prepare(self, ref: EpisodeRef) -> _Prepared:
         episode = self._episode_of(ref)
-        prompt = build_prompt(
-            episode, self.snapshots.images(episode), self.config.prompt_config(ref.variant)
-        )
-        object_ids = episode.object_ids()
-        request = prompt.to_request(
-            ref.key,
-            episode_id=ref.key,
-            meta=RequestMeta(
-                task_id=ref.task_id,
-                seed=ref.seed,
-                gt_plan=episode.gt_plan,
-                arm_steps=tuple(episode.arm_steps()),
-                object_ids=tuple(object_ids),
-            ),
-            json_schema=plan_json_schema(object_ids)
-            if self.config.generation.constrained
-            else None,
-        )
+        images = self.snapshots.images(episode)
+        prompt, request = episode_request(self.config, ref, episode, images)
         info = EpisodeInfo(
             self.store.paths.run_id,
             ref.key,

@@ -12,6 +12,7 @@ from vlm_bench.runner.progress import progress_bar
 from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
+from vlm_bench.types.benchmark_version import require_current_version
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.plan import plan_to_json
@@ -71,9 +72,12 @@ def rescore_run(
     Raises:
         NotARunError: ``run_dir`` has no manifest.
         RunLockedError: A run is writing the folder.
+        BenchmarkVersionError: The run evaluated another benchmark version (its answers
+            belong to other episodes or prompts).
     """
     with RunStore.open_existing(run_dir) as store:
         config = store.manifest.config
+        require_current_version(config.benchmark_version, f"run {store.paths.root}")
         episodes: dict[tuple[str, int], Episode] = {}
         label = f"rescore {store.paths.run_id}"
         records = list(store.records.values())

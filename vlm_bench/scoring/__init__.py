@@ -4,11 +4,10 @@ error taxonomy, computed from a :class:`~vlm_bench.types.parse.ParseResult` and 
 Scoring never imports the simulator.
 """
 
+from vlm_bench.scoring.loc_pairing import common_subsequence, direction_credit, loc_credits
 from vlm_bench.scoring.metrics import (
     DEFAULT_SCORING,
-    direction_credit,
     is_success,
-    loc_credits,
     object_counts,
     plan_score,
     same_step,
@@ -22,6 +21,7 @@ __all__ = [
     "DEFAULT_SCORING",
     "align",
     "classify_errors",
+    "common_subsequence",
     "direction_credit",
     "is_reordered",
     "is_success",

@@ -5,30 +5,9 @@ Documented choices where the paper is open:
 * Invalid steps stay in place: they count toward K, never match a tasktype, a direction or a
   skill, and every object reference they make counts in K_obj (against S_obj) even when it
   names a GT object.
-* S_loc gives each GT UAV step a credit ω against one predicted *UAV-typed* step (valid or
-  not), or 0 when it has none; ``ScoringConfig.loc_alignment`` picks the pairing:
-
-  - ``segment`` (default): both plans are cut at their ARM steps (predicted steps of tasktype
-    ARM, valid or not). Segment k holds the moves between ARM steps k-1 and k (segment 0 the
-    moves before the first ARM step) and a trailing segment the moves after the last one. ARM
-    steps are matched by order (the k-th GT ARM step with the k-th predicted one, whatever
-    their skills or objects), so GT segment k is compared with predicted segment k, and the
-    trailing segments with each other; a GT segment whose ARM step has no k-th predicted
-    counterpart gets 0 for all its moves. Within a segment pair, the horizontal GT moves are
-    paired by order with the predicted horizontal moves and ``up``/``down`` with the predicted
-    vertical moves, so a missing ``up`` does not shift the horizontal comparison. An invalid
-    predicted UAV step counts in the sub-list of the direction it resolved to, and in the
-    horizontal one when it resolved to none (an unknown direction such as "towards the cube" is
-    a failed approach move, which is horizontal in the benchmark's plans): it occupies a slot
-    and scores 0, as under ``order``. Predicted moves left without a GT partner (extra moves,
-    moves in another segment) earn nothing and cost nothing here; S_plan penalises them.
-  - ``order``: the i-th GT UAV step is paired with the i-th predicted UAV-typed step over the
-    whole plan; an invalid UAV step (e.g. an unknown direction) occupies its index and scores
-    0, so the model's later moves are not shifted onto earlier GT moves.
-
-  Steps of unknown tasktype are neither moves nor segment separators. ω is 100 for the same
-  direction, ``neighbour_credit`` (40) for sectors 45° apart (``frontright``↔``front`` wraps),
-  else 0; ``up``/``down`` only match themselves.
+* S_loc gives each GT UAV step a credit ω against one predicted UAV-typed step, or 0; the
+  pairing (``ScoringConfig.loc_alignment``: ``content`` by default, ``segment``, ``order``) is
+  :mod:`vlm_bench.scoring.loc_pairing`.
 * A GT with no UAV step / no object reference / no ARM step: see :class:`EmptyGtPolicy`.
 * An output with no usable plan scores 0 everywhere (docs/design.md#metrics), whatever the policy.
 """
@@ -39,10 +18,11 @@ from collections import Counter
 from collections.abc import Hashable, Iterable, Sequence
 
 from vlm_bench.errors import ConfigError
+from vlm_bench.scoring.loc_pairing import loc_credits
 from vlm_bench.scoring.taxonomy import classify_errors
 from vlm_bench.types.parse import ParsedStep, ParseResult
-from vlm_bench.types.plan import HORIZONTAL_DIRECTIONS, ArmStep, Direction, UavStep
-from vlm_bench.types.scores import EmptyGtPolicy, LocAlignment, PlanScores, ScoringConfig
+from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.scores import EmptyGtPolicy, PlanScores, ScoringConfig
 
 DEFAULT_SCORING = ScoringConfig()
 GtPlan = Sequence[UavStep | ArmStep]
@@ -61,19 +41,6 @@ def _empty_gt(prediction_has_some: bool, policy: EmptyGtPolicy) -> float:
     return 100.0 if policy is EmptyGtPolicy.FULL or not prediction_has_some else 0.0
 
 
-def direction_credit(predicted: Direction | None, gt: Direction, neighbour: float = 40.0) -> float:
-    """ω(Δθ): 100 same direction, ``neighbour`` for adjacent sectors, else 0 (None scores 0)."""
-    if predicted is None:
-        return 0.0
-    if predicted == gt:
-        return 100.0
-    if predicted.is_horizontal and gt.is_horizontal:
-        gap = abs(HORIZONTAL_DIRECTIONS.index(predicted) - HORIZONTAL_DIRECTIONS.index(gt))
-        if min(gap, len(HORIZONTAL_DIRECTIONS) - gap) == 1:
-            return neighbour
-    return 0.0
-
-
 def plan_score(m: int, k: int, n: int, alpha: float = 0.5) -> float:
     """S_plan = 100·[α·M/N + (1−α)·max(0, 1 − |K−N|/N)]."""
     return _clamp(100.0 * (alpha * m / n + (1.0 - alpha) * max(0.0, 1.0 - abs(k - n) / n)))
@@ -82,89 +49,6 @@ def plan_score(m: int, k: int, n: int, alpha: float = 0.5) -> float:
 def type_matches(steps: Sequence[ParsedStep], gt: GtPlan) -> int:
     """M: positions i < min(K, N) where a valid predicted step has the GT step's tasktype."""
     return sum(p.valid and p.tasktype == g.tasktype for p, g in zip(steps, gt, strict=False))
-
-
-def _step_credit(p: ParsedStep | None, g: UavStep, neighbour: float) -> float:
-    """ω of one GT move against its partner (an absent or invalid partner scores 0)."""
-    ok = p is not None and p.valid
-    return direction_credit(p.direction if ok and p else None, g.direction, neighbour)
-
-
-def _order_credits(steps: Sequence[ParsedStep], gt: GtPlan, neighbour: float) -> list[float]:
-    predicted = [s for s in steps if s.tasktype == "UAV"]
-    moves = [g for g in gt if isinstance(g, UavStep)]
-    return [
-        _step_credit(predicted[i] if i < len(predicted) else None, g, neighbour)
-        for i, g in enumerate(moves)
-    ]
-
-
-def _gt_segments(gt: GtPlan) -> list[list[tuple[int, UavStep]]]:
-    """The GT moves (with their rank among the GT moves) before each ARM step, then the
-    trailing ones: one more segment than ARM steps."""
-    out: list[list[tuple[int, UavStep]]] = [[]]
-    rank = 0
-    for g in gt:
-        if isinstance(g, UavStep):
-            out[-1].append((rank, g))
-            rank += 1
-        else:
-            out.append([])
-    return out
-
-
-def _predicted_segments(steps: Sequence[ParsedStep]) -> list[list[ParsedStep]]:
-    """The UAV-typed steps before each ARM-typed step (valid or not), then the trailing ones."""
-    out: list[list[ParsedStep]] = [[]]
-    for s in steps:
-        if s.tasktype == "ARM":
-            out.append([])
-        elif s.tasktype == "UAV":
-            out[-1].append(s)
-    return out
-
-
-def _is_vertical(direction: Direction | None) -> bool:
-    """Vertical sub-list: ``up``/``down``; an unresolved direction counts as horizontal."""
-    return direction is not None and not direction.is_horizontal
-
-
-def _segment_credits(steps: Sequence[ParsedStep], gt: GtPlan, neighbour: float) -> list[float]:
-    gt_segments, pred_segments = _gt_segments(gt), _predicted_segments(steps)
-    credits = [0.0] * sum(len(segment) for segment in gt_segments)
-    n_gt_arm, n_pred_arm = len(gt_segments) - 1, len(pred_segments) - 1
-    for k, segment in enumerate(gt_segments):
-        if k == n_gt_arm:
-            partner = pred_segments[-1]  # trailing with trailing
-        elif k < n_pred_arm:
-            partner = pred_segments[k]  # the moves before the k-th ARM step of each plan
-        else:
-            continue  # no k-th predicted ARM step: the segment's moves are missing
-        for vertical in (False, True):
-            gt_part = [(r, g) for r, g in segment if _is_vertical(g.direction) is vertical]
-            pred_part = [p for p in partner if _is_vertical(p.direction) is vertical]
-            for (rank, g), p in zip(gt_part, pred_part, strict=False):
-                credits[rank] = _step_credit(p, g, neighbour)
-    return credits
-
-
-def loc_credits(
-    steps: Sequence[ParsedStep],
-    gt: GtPlan,
-    neighbour: float = 40.0,
-    alignment: LocAlignment = "segment",
-) -> list[float]:
-    """ω of each GT UAV step, in GT order, against its paired predicted UAV-typed step (or 0).
-
-    Args:
-        steps: The predicted steps, invalid ones included.
-        gt: The GT plan.
-        neighbour: ω for adjacent horizontal sectors.
-        alignment: ``segment`` or ``order`` pairing (see the module docstring).
-    """
-    if alignment == "order":
-        return _order_credits(steps, gt, neighbour)
-    return _segment_credits(steps, gt, neighbour)
 
 
 def _refs(step: ParsedStep | ArmStep) -> list[str]:

@@ -9,7 +9,10 @@ be resumed with a different batch size or a fresh API key.
 
 Fields added after the first release (:data:`FIELDS_ADDED_LATER`) enter the hash only when set
 off their default, so configurations that could be written before they existed keep their hash
-(and their default run folder); ``execute`` is hashed as it always was.
+(and their default run folder); ``execute`` is hashed as it always was. ``benchmark_version``
+enters it from version 2 on: every configuration of a new benchmark version gets a new hash
+(and default run folder), while a version-1 configuration, read from a manifest that predates
+versions, keeps the hash it was written with.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from pydantic import (
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.base import FiniteFrozen, Frozen
+from vlm_bench.types.benchmark_version import BENCHMARK_VERSION, FIRST_VERSION
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
 from vlm_bench.types.scores import ScoringConfig
@@ -129,6 +133,12 @@ class RunConfig(FiniteFrozen):
     uav_noise: float = Field(
         default=0.0, ge=0, description="Gust force std on the UAV (N) during execution."
     )
+    benchmark_version: int = Field(
+        default=BENCHMARK_VERSION,
+        ge=FIRST_VERSION,
+        description="Benchmark version evaluated: tasks, GT, prompts, metrics "
+        "(docs/benchmark-versions.md); 1 in manifests written before versions were recorded.",
+    )
 
     @field_validator("seeds")
     @classmethod
@@ -197,6 +207,8 @@ class RunConfig(FiniteFrozen):
         for name, default in SCORING_FIELDS_ADDED_LATER.items():
             if data["scoring"].get(name) == default:
                 del data["scoring"][name]
+        if data["benchmark_version"] == FIRST_VERSION:
+            del data["benchmark_version"]
         return data
 
     def config_hash(self) -> str:
@@ -271,12 +283,15 @@ class RunManifest(Frozen):
 
     @model_validator(mode="before")
     @classmethod
-    def _older_scoring(cls, data: Any) -> Any:
+    def _older_fields(cls, data: Any) -> Any:
         # A manifest lists every field it knew; one without a later scoring field was written
-        # before it existed, when every run scored the earlier way.
+        # before it existed, when every run scored the earlier way; one without a benchmark
+        # version was written by version 1.
         config = data.get("config") if isinstance(data, dict) else None
         scoring = config.get("scoring") if isinstance(config, dict) else None
         if isinstance(scoring, dict):
             for name, before in SCORING_FIELDS_ADDED_LATER.items():
                 scoring.setdefault(name, before)
+        if isinstance(config, dict):
+            config.setdefault("benchmark_version", FIRST_VERSION)
         return data

@@ -24,11 +24,13 @@ class EmptyGtPolicy(StrEnum):
     """Always 100: nothing to get right (extra steps are still penalised by S_plan)."""
 
 
-LocAlignment = Literal["segment", "order"]
-"""How S_loc pairs predicted UAV steps with GT UAV steps (see :mod:`vlm_bench.scoring.metrics`):
-``segment`` compares the moves leading to the k-th ARM step with those leading to the k-th
-predicted ARM step, horizontal with horizontal and vertical with vertical, each by order;
-``order`` pairs the i-th GT move with the i-th predicted UAV step (the paper read literally)."""
+LocAlignment = Literal["content", "segment", "order"]
+"""How S_loc pairs predicted UAV steps with GT UAV steps (see :mod:`vlm_bench.scoring.loc_pairing`):
+``content`` compares the moves leading to each GT ARM step with those leading to the predicted
+ARM step matched to it by a longest common subsequence on (skill, object), horizontal with
+horizontal and vertical with vertical, each by order; ``segment`` does the same with ARM steps
+matched by order (the k-th with the k-th); ``order`` pairs the i-th GT move with the i-th
+predicted UAV step (the paper read literally)."""
 
 
 class ScoreWeights(Frozen):
@@ -49,11 +51,12 @@ class ScoreWeights(Frozen):
 
 class ScoringConfig(Frozen):
     """The open choices of the metrics (docs/design.md#metrics); defaults follow the paper except
-    ``loc_alignment``, whose default ``segment`` replaces the paper's literal order pairing.
+    ``loc_alignment``, whose default ``content`` replaces the paper's literal order pairing.
 
     ``loc_alignment`` was added after the first release. A run manifest written before it
     lacks the field and loads as ``order`` (how those runs were scored), so rescoring or resuming
-    an older run reproduces its S_loc; a new run scores by ``segment`` unless told otherwise.
+    an older run reproduces its S_loc; a manifest that names ``segment`` (benchmark version 1's
+    default) keeps it; a new run scores by ``content`` unless told otherwise.
     """
 
     alpha: float = Field(default=0.5, ge=0, le=1, description="Type-accuracy weight in S_plan.")
@@ -66,9 +69,10 @@ class ScoringConfig(Frozen):
         description="S_loc/S_obj/S_skill when the GT has no moves/references/ARM skills.",
     )
     loc_alignment: LocAlignment = Field(
-        default="segment",
-        description="S_loc pairing: 'segment' (moves before the same ARM step, horizontal and "
-        "vertical apart) or 'order' (i-th GT move vs i-th predicted UAV step, the paper's).",
+        default="content",
+        description="S_loc pairing: 'content' (moves before ARM steps matched on skill and "
+        "object, horizontal and vertical apart), 'segment' (ARM steps matched by order) or "
+        "'order' (i-th GT move vs i-th predicted UAV step, the paper's).",
     )
 
 
