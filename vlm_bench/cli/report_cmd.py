@@ -70,7 +70,7 @@ def report(
     seed: Annotated[int, typer.Option(help="Bootstrap seed.")] = 0,
 ) -> None:
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
-    from vlm_bench.report.make import build_report, render_tables, write_outputs
+    from vlm_bench.report.make import build_report, render_tables, warnings, write_outputs
     from vlm_bench.report.report_options import report_options
 
     options = report_options(
@@ -103,6 +103,9 @@ def report(
         _print_terminal(result, console)
     if options.out is None and isinstance(tables, str):
         sys.stdout.write(tables)
+    if options.format != "terminal" or options.out is not None:
+        for warning in warnings(result):
+            print(f"warning: {warning}", file=sys.stderr)
     for path in write_outputs(result, tables):
         print(f"wrote {path}", file=sys.stderr)
 

@@ -17,14 +17,22 @@ from collections.abc import Sequence
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
-from vlm_bench.report.summary import BOTH, By, by_columns, summary_wide, table_values
-from vlm_bench.report.tables import HEADERS, system_headers
+from vlm_bench.report.summary import (
+    BOTH,
+    By,
+    by_columns,
+    partial_overalls,
+    summary_wide,
+    table_values,
+)
+from vlm_bench.report.tables import HEADERS, partial_warnings, system_headers
 
 INSTRUCTION_SHORT = {"explicit": "Exp.", "implicit": "Imp.", BOTH: "Both"}
 _SPECIAL = re.compile(r"([\\&%$#_{}~^])")
 _REPLACE = {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
 _LOWER = r"\raisebox{-0.6\normalbaselineskip}[0pt][0pt]{%s}"
 _HEAD = r"\raisebox{-1.2\normalbaselineskip}[0pt][0pt]{\textbf{%s}}"
+_PARTIAL = r"\textsuperscript{\dag}"
 
 
 def escape(text: str) -> str:
@@ -43,10 +51,12 @@ def _best(values: Sequence[float]) -> float:
     return max(finite) if len(set(finite)) > 1 else math.nan
 
 
-def _cell(value: float, best: float) -> str:
+def _cell(value: float, best: float, partial: bool = False) -> str:
     if math.isnan(value):
         return "--"
     text = f"{value:.1f}"
+    if partial:  # a partial Overall is never the best
+        return text + _PARTIAL
     return (
         rf"\textbf{{{text}}}"
         if not math.isnan(best) and round(value, 1) == round(best, 1)
@@ -90,16 +100,15 @@ def summary_latex(
     blocks = _blocks(wide, len(keys)) if not wide.empty else []
     group_rows = [(*s, r) for s, rows in blocks for r in rows]
     overall_rows = [_overall_of(wide, s, rows) for s, rows in blocks]
+    partial = partial_overalls(long, keys)
+    complete = [r for r in overall_rows if r not in partial]
     best = {
         (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows])
         for g in groups
         for m in metrics
     }
     best.update(
-        {
-            (OVERALL, m): _best([float(wide.loc[r, (OVERALL, m)]) for r in overall_rows])
-            for m in metrics
-        }
+        {(OVERALL, m): _best([float(wide.loc[r, (OVERALL, m)]) for r in complete]) for m in metrics}
     )
     width = len(metrics)
     lead = len(keys) + 1
@@ -143,7 +152,11 @@ def summary_latex(
             if first or not span:
                 source = overall_rows[b] if span else key
                 overall = [
-                    _cell(float(wide.loc[source, (OVERALL, m)]), best[(OVERALL, m)])
+                    _cell(
+                        float(wide.loc[source, (OVERALL, m)]),
+                        best[(OVERALL, m)],
+                        source in partial,
+                    )
                     for m in metrics
                 ]
                 cells += [_LOWER % c if span else c for c in overall]
@@ -152,7 +165,10 @@ def summary_latex(
             lines.append(" & ".join(cells) + r" \\")
         if b < len(blocks) - 1:
             lines.append(r"\midrule")
-    lines += [r"\bottomrule", r"\end{tabular}}", r"\end{table*}"]
+    lines += [r"\bottomrule", r"\end{tabular}}"]
+    for warning in partial_warnings(long, keys, grouping):
+        lines.append(r"\par\smallskip\footnotesize " + escape(warning).replace("†", _PARTIAL))
+    lines.append(r"\end{table*}")
     return "\n".join(lines) + "\n"
 
 

@@ -28,8 +28,8 @@ from vlm_bench.report.load import load
 from vlm_bench.report.paired import find_system, paired_table
 from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
-from vlm_bench.report.summary import sort_systems, summary_long, table_values
-from vlm_bench.report.tables import summary_markdown
+from vlm_bench.report.summary import partial_overalls, sort_systems, summary_long, table_values
+from vlm_bench.report.tables import partial_warnings, summary_markdown
 from vlm_bench.report.text import frame_markdown
 from vlm_bench.storage.jsonl import write_text_atomic
 
@@ -124,8 +124,11 @@ def build_report(options: ReportOptions) -> Report:
 def _add_sections(report: Report) -> None:
     options, frame, by = report.options, report.frame, list(report.options.by)
     first = report.groupings[0]
+    partial = partial_overalls(report.tables[first.name], by)
     report.sections.append(
-        ci_section(report.cis[first.name], by, first, options.n_boot, options.seed, options.level)
+        ci_section(
+            report.cis[first.name], by, first, options.n_boot, options.seed, options.level, partial
+        )
     )
     report.sections.append(tier_section(parse_tier_rates(frame, by), by))
     report.sections.append(code_section(error_code_table(frame, by), by))
@@ -201,6 +204,16 @@ def long_with_cis(report: Report) -> pd.DataFrame:
         parts.append(long.assign(grouping=g.name))
     out = pd.concat(parts, ignore_index=True)
     return out[["grouping", *[c for c in out.columns if c != "grouping"]]]
+
+
+def warnings(report: Report) -> list[str]:
+    """What a reader must know beside the numbers: partial Overalls, per grouping."""
+    by = list(report.options.by)
+    return list(
+        dict.fromkeys(
+            w for g in report.groupings for w in partial_warnings(report.tables[g.name], by, g)
+        )
+    )
 
 
 def render_tables(report: Report) -> str | bytes:

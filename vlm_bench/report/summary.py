@@ -13,6 +13,10 @@ Aggregation, documented once here:
 * Records whose backend failed (``status == "error"``) are left out of the means and counted in
   ``n_error``; a resume retries them. A group cell with no answered episode is NaN, and so are
   the overall and ``both`` values built from it (they would otherwise cover fewer groups).
+* An overall is comparable only over the same groups: a row with no episode at all in some group
+  of the table (a run of one suite beside runs of all four) keeps its mean over the groups it
+  has, but ``missing_groups`` names the others; the tables mark that Overall *partial* (never
+  bold, never best) and warn. A ``both`` cell needs every instruction of its system.
 * Runs that execute plans add the execution columns (:data:`EXEC_VALUES`): ``exec_success`` is
   the share of answered episodes whose execution succeeded, in percent; ``S_task``, ``S_pos``,
   ``S_arm``, ``S_safe`` and ``VLA_total`` are means over the answered episodes, an output with no
@@ -43,7 +47,10 @@ EXEC_VALUES = EXEC_METRICS
 """Value columns added when the records include executing runs (see the module docstring)."""
 TABLE_EXEC_VALUES = ("exec_success", "S_task")
 """Execution columns of the printed tables (the VLA metrics are in ``summary.csv`` only)."""
-SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error")
+MISSING = "missing_groups"
+"""Column of :func:`summary_long`: on overall rows, the table's groups the row has no episode
+in, comma-separated ("" when it covers them all: a complete Overall); "" on other rows."""
+SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error", MISSING)
 """Columns of :func:`summary_long` (and ``summary.csv``) without execution; with execution,
 :data:`EXEC_VALUES` follow ``Loc_over_blind``."""
 PERCENT = ("Succ", "exec_success")
@@ -109,11 +116,13 @@ def _strict_mean(col: pd.Series) -> float:
 
 
 def _overall(
-    cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...]
+    cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...], table: list[str]
 ) -> pd.DataFrame:
     grouped = cells.groupby([*by, "instruction"], sort=False, dropna=False)
     out = grouped[list(values)].agg(_strict_mean)
     out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    covered = grouped[group].agg(set)
+    out[MISSING] = [",".join(g for g in table if g not in have) for have in covered]
     out = out.reset_index()
     out[group] = OVERALL
     return out
@@ -121,7 +130,11 @@ def _overall(
 
 def _both(cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...]) -> pd.DataFrame:
     variants = cells.groupby(by, dropna=False)["instruction"].transform("nunique")
-    grouped = cells[variants > 1].groupby([*by, group], sort=False, dropna=False)
+    present = cells.groupby([*by, group], dropna=False)["instruction"].transform("nunique")
+    # A group some instruction never ran has no ``both`` cell (it would be one instruction's).
+    grouped = cells[(variants > 1) & (present == variants)].groupby(
+        [*by, group], sort=False, dropna=False
+    )
     out = grouped[list(values)].agg(_strict_mean)
     out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
     out = out.reset_index()
@@ -154,19 +167,36 @@ def summary_long(
     """
     keys, group = by_columns(by), grouping.column
     if frame.empty:
-        return pd.DataFrame(columns=[*keys, "instruction", group, *VALUES, "n", "n_error"])
+        return pd.DataFrame(columns=[*keys, "instruction", group, *VALUES, "n", "n_error", MISSING])
     frame = grouping.assign(frame)
     values = summary_values(frame)
     cells = _cells(frame, [*keys, "instruction", group], values)
     both = _both(cells, keys, group, values)
     rows = pd.concat([cells, both], ignore_index=True) if not both.empty else cells
-    table = pd.concat([rows, _overall(rows, keys, group, values)], ignore_index=True)
+    present = [g for g in grouping.order if g in set(frame[group])]
+    overall = _overall(rows, keys, group, values, present)
+    table = pd.concat([rows, overall], ignore_index=True)
+    table[MISSING] = table[MISSING].fillna("")
     systems = system_order(frame, keys)
     table["_s"] = [systems.index(s) for s in table[keys].itertuples(index=False, name=None)]
     table["_i"] = table["instruction"].map(INSTRUCTION_ORDER.index)
     table["_g"] = table[group].map(grouping.position)
     table = table.sort_values(["_s", "_i", "_g"], kind="stable")
-    return table[[*keys, "instruction", group, *values, "n", "n_error"]].reset_index(drop=True)
+    columns = [*keys, "instruction", group, *values, "n", "n_error", MISSING]
+    return table[columns].reset_index(drop=True)
+
+
+def partial_overalls(long: pd.DataFrame, by: By = "model") -> dict[tuple[object, ...], list[str]]:
+    """Rows (``by`` values + instruction) whose Overall misses groups of the table, with the
+    missing group values (see the module docstring)."""
+    keys = by_columns(by)
+    if MISSING not in long.columns:
+        return {}
+    rows = long[long[MISSING].fillna("") != ""]
+    return {
+        (*(r[k] for k in keys), r["instruction"]): str(r[MISSING]).split(",")
+        for r in rows.to_dict("records")
+    }
 
 
 def summary_wide(long: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES) -> pd.DataFrame:
@@ -207,9 +237,11 @@ def sort_systems(
 ) -> pd.DataFrame:
     """``long`` with its systems ordered by their overall ``metric`` (the paper sorts by overall
     Tot, ascending); a system's overall is its ``both`` row, or its first instruction's. Systems
-    without a value go last; ties keep their order."""
+    without a complete overall (a missing group) go last; ties keep their order."""
     keys = by_columns(by)
     overall = headline(long[long[grouping.column] == OVERALL], keys)
+    if MISSING in overall.columns:
+        overall = overall[overall[MISSING].fillna("") == ""]
     score = {tuple(r[k] for k in keys): float(r[metric]) for r in overall.to_dict("records")}
     systems = system_order(long, keys)
     sign = 1.0 if ascending else -1.0

@@ -16,6 +16,7 @@ from vlm_bench.report.summary import (
     VALUES,
     By,
     by_columns,
+    partial_overalls,
     summary_long,
     summary_wide,
     table_values,
@@ -45,6 +46,44 @@ EXEC_LEGEND = (
     "episodes, an output with no plan counting 0; summary.csv adds S_pos, S_arm, "
     "S_safe and VLA_total."
 )
+
+
+PARTIAL = "†"
+"""Mark of a partial Overall (a row missing groups of the table), never bold."""
+
+
+def partial_warnings(long: pd.DataFrame, by: By, grouping: Grouping) -> list[str]:
+    """One warning per system whose Overall is partial, naming the groups it lacks (and the
+    instruction rows, when not all of the system's rows lack the same)."""
+    keys = by_columns(by)
+    rows: dict[tuple[object, ...], list[str]] = {}
+    for key in long[[*keys, "instruction"]].drop_duplicates().itertuples(index=False, name=None):
+        rows.setdefault(tuple(key[:-1]), []).append(str(key[-1]))
+    found: dict[tuple[tuple[object, ...], tuple[str, ...]], list[str]] = {}
+    for key, groups in partial_overalls(long, by).items():
+        found.setdefault((tuple(key[:-1]), tuple(groups)), []).append(str(key[-1]))
+    out = []
+    for (system, missing), instructions in found.items():
+        name = " ".join(map(str, system))
+        if instructions != rows[system]:
+            name += f" ({', '.join(instructions)})"
+        lacks = ", ".join(grouping.short.get(g, g) for g in missing)
+        out.append(
+            f"Partial Overall{PARTIAL}: {name} has no episode in {lacks}; its Overall averages "
+            "the other groups only and is not comparable with complete rows."
+        )
+    return out
+
+
+def _row_texts(
+    wide: pd.DataFrame, key: tuple[object, ...], partial: dict[tuple[object, ...], list[str]]
+) -> list[str]:
+    """A wide row's cells as text, a partial Overall marked."""
+    mark = PARTIAL if tuple(key) in partial else ""
+    return [
+        fmt(v) + (mark if g == OVERALL and fmt(v) != "–" else "")
+        for (g, _), v in zip(wide.columns, wide.loc[key].tolist(), strict=True)
+    ]
 
 
 def fmt(value: object) -> str:
@@ -88,15 +127,17 @@ def summary_markdown(long: pd.DataFrame, by: By = "model", grouping: Grouping = 
         "| " + " | ".join(head) + " |",
         "|" + "|".join([":--"] * labels + ["--:"] * (len(head) - labels)) + "|",
     ]
-    for key, row in wide.iterrows():
-        cells = [*(str(k) for k in key), *(fmt(v) for v in row.tolist())]
+    partial = partial_overalls(long, by)
+    for key in wide.index:
+        cells = [*(str(k) for k in key), *_row_texts(wide, key, partial)]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     overall = long[long[grouping.column] == OVERALL]
     n = int(overall[overall["instruction"] != "both"]["n"].sum())
     legend = LEGEND.format(groups="suite" if grouping.name == "suites" else "paper's")
     legend = f"{legend} {EXEC_LEGEND}" if "exec_success" in metrics else legend
     names = group_legend(grouping, groups)
-    return "\n".join(lines) + f"\n\n{names}. {legend} Episodes scored: {n}.\n"
+    warnings = "".join(f"\n**Warning.** {w}\n" for w in partial_warnings(long, by, grouping))
+    return "\n".join(lines) + f"\n\n{names}. {legend} Episodes scored: {n}.\n" + warnings
 
 
 def _caption(metrics: Sequence[str]) -> str:
@@ -106,10 +147,17 @@ def _caption(metrics: Sequence[str]) -> str:
     return caption
 
 
-def _rich_wide(wide: pd.DataFrame, by: By, grouping: Grouping, title: str | None) -> Table:
+def _warned(caption: str, long: pd.DataFrame, by: By, grouping: Grouping) -> str:
+    warnings = partial_warnings(long, by, grouping)
+    return caption + "".join(f"\n[yellow]{w}[/]" for w in warnings)
+
+
+def _rich_wide(
+    wide: pd.DataFrame, long: pd.DataFrame, by: By, grouping: Grouping, title: str | None
+) -> Table:
     metrics = _metrics(wide)
     groups = _groups(wide)
-    caption = f"{group_legend(grouping, groups)}; {_caption(metrics)}"
+    caption = _warned(f"{group_legend(grouping, groups)}; {_caption(metrics)}", long, by, grouping)
     table = Table(title=title, caption=caption)
     for name in system_headers(by):
         table.add_column(name, no_wrap=True)
@@ -120,8 +168,9 @@ def _rich_wide(wide: pd.DataFrame, by: By, grouping: Grouping, title: str | None
             table.add_column(
                 f"[bold]{label}[/]" if metric == "S_total" else label, justify="right", no_wrap=True
             )
-    for key, row in wide.iterrows():
-        table.add_row(*(str(k) for k in key), *(fmt(v) for v in row.tolist()))
+    partial = partial_overalls(long, by)
+    for key in wide.index:
+        table.add_row(*(str(k) for k in key), *_row_texts(wide, key, partial))
     return table
 
 
@@ -134,6 +183,8 @@ def _rich_long(
     if short:
         present = [g for g in grouping.order if g in set(long[grouping.column])]
         caption = f"{group_legend(grouping, present)}; {caption}"
+    caption = _warned(caption, long, by, grouping)
+    partial = partial_overalls(long, by)
     # Eight metric columns (with execution) fit 80 characters only with the box's one-space
     # column separators and no padding.
     padding = (0, 0) if len(metrics) > len(VALUES) else (0, 1)
@@ -158,6 +209,9 @@ def _rich_long(
         value = row[grouping.column]
         overall = value == OVERALL
         name = grouping.short[value] if short or overall else grouping.titles[value]
+        bold = overall and group not in partial
+        if overall and not bold:
+            name += PARTIAL
         first = group != previous
         cells = [
             *(str(row[k]) if first else "" for k in keys),
@@ -166,7 +220,7 @@ def _rich_long(
             *(fmt(row[m]) for m in metrics),
             str(row["n"]),
         ]
-        table.add_row(*cells, style="bold" if overall else None, end_section=overall)
+        table.add_row(*cells, style="bold" if bold else None, end_section=overall)
         previous = group
     return table
 
@@ -189,7 +243,7 @@ def summary_rich(
     keys = by_columns(by)
     name = sum(max(len(str(s)) for s in long[k]) + 3 for k in keys)
     if width is None or 21 + name + 8 * len(wide.columns) <= width:
-        return _rich_wide(wide, by, grouping, title)
+        return _rich_wide(wide, long, by, grouping, title)
     short = name + 55 + 7 * len(table_values(long)) > width
     return _rich_long(long, by, grouping, title, short=short)
 
