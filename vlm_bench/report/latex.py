@@ -19,8 +19,10 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.summary import (
     BOTH,
+    TABLE_EXEC_VALUES,
     By,
     by_columns,
+    exec_coverage,
     partial_overalls,
     summary_wide,
     table_values,
@@ -51,10 +53,12 @@ def _best(values: Sequence[float]) -> float:
     return max(finite) if len(set(finite)) > 1 else math.nan
 
 
-def _cell(value: float, best: float, partial: bool = False) -> str:
+def _cell(value: float, best: float, partial: bool = False, count: str = "") -> str:
     if math.isnan(value):
         return "--"
     text = f"{value:.1f}"
+    if count:  # execution over only some of the cell's episodes: never the best either
+        return rf"{text}\,{{\scriptsize({count})}}" + (_PARTIAL if partial else "")
     if partial:  # a partial Overall is never the best
         return text + _PARTIAL
     return (
@@ -101,14 +105,25 @@ def summary_latex(
     group_rows = [(*s, r) for s, rows in blocks for r in rows]
     overall_rows = [_overall_of(wide, s, rows) for s, rows in blocks]
     partial = partial_overalls(long, keys)
+    coverage = exec_coverage(long, keys, grouping)
+
+    def count(row: tuple[object, ...], group: str, metric: str) -> str:
+        done = coverage.get((*row, group)) if metric in TABLE_EXEC_VALUES else None
+        return f"{done[0]}/{done[1]}" if done else ""
+
     complete = [r for r in overall_rows if r not in partial]
     best = {
-        (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows])
+        (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows if not count(r, g, m)])
         for g in groups
         for m in metrics
     }
     best.update(
-        {(OVERALL, m): _best([float(wide.loc[r, (OVERALL, m)]) for r in complete]) for m in metrics}
+        {
+            (OVERALL, m): _best(
+                [float(wide.loc[r, (OVERALL, m)]) for r in complete if not count(r, OVERALL, m)]
+            )
+            for m in metrics
+        }
     )
     width = len(metrics)
     lead = len(keys) + 1
@@ -147,7 +162,9 @@ def summary_latex(
             cells = [*label_cells, INSTRUCTION_SHORT.get(row, escape(row))]
             key = (*system, row)
             cells += [
-                _cell(float(wide.loc[key, (g, m)]), best[(g, m)]) for g in groups for m in metrics
+                _cell(float(wide.loc[key, (g, m)]), best[(g, m)], count=count(key, g, m))
+                for g in groups
+                for m in metrics
             ]
             if first or not span:
                 source = overall_rows[b] if span else key
@@ -156,6 +173,7 @@ def summary_latex(
                         float(wide.loc[source, (OVERALL, m)]),
                         best[(OVERALL, m)],
                         source in partial,
+                        count(source, OVERALL, m),
                     )
                     for m in metrics
                 ]

@@ -22,6 +22,10 @@ Aggregation, documented once here:
   ``S_arm``, ``S_safe`` and ``VLA_total`` are means over the answered episodes, an output with no
   plan to execute counting 0 in each. They aggregate like the planning metrics. Runs that do not
   execute plans have none of these columns (NaN when compared with runs that do).
+* ``n_executed`` (with the execution columns) counts a cell's answered episodes that have
+  execution values. Where it is below ``n`` (a ``--by`` row pooling executing and planning-only
+  runs) the execution values cover only those episodes, and the tables print the count beside
+  them ("100.0 (20/60)"); where it is 0 they print "–".
 
 A *system* (a table row, with the instruction) is one value of the ``by`` column(s): ``model`` by
 default, ``run`` to compare ablations of one model, or several columns (``views, resolution``).
@@ -103,10 +107,18 @@ def _cells(frame: pd.DataFrame, keys: list[str], values: tuple[str, ...]) -> pd.
     grouped = ok.groupby(keys, sort=False, dropna=False)
     cells = grouped[list(values)].mean()
     cells["n"] = grouped.size()
+    counts = ["n", "n_error"]
+    if "exec_success" in values:
+        cells["n_executed"] = grouped["exec_success"].count()
+        counts.append("n_executed")
     errors = frame[frame["status"] != "ok"].groupby(keys, sort=False, dropna=False).size()
     cells = cells.join(errors.rename("n_error"), how="outer")
-    cells[["n", "n_error"]] = cells[["n", "n_error"]].fillna(0).astype(int)
+    cells[counts] = cells[counts].fillna(0).astype(int)
     return cells.reset_index()
+
+
+def _counts(values: tuple[str, ...]) -> list[str]:
+    return ["n", "n_error", "n_executed"] if "exec_success" in values else ["n", "n_error"]
 
 
 def _strict_mean(col: pd.Series) -> float:
@@ -120,7 +132,7 @@ def _overall(
 ) -> pd.DataFrame:
     grouped = cells.groupby([*by, "instruction"], sort=False, dropna=False)
     out = grouped[list(values)].agg(_strict_mean)
-    out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    out[_counts(values)] = grouped[_counts(values)].sum()
     covered = grouped[group].agg(set)
     out[MISSING] = [",".join(g for g in table if g not in have) for have in covered]
     out = out.reset_index()
@@ -136,7 +148,7 @@ def _both(cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...
         [*by, group], sort=False, dropna=False
     )
     out = grouped[list(values)].agg(_strict_mean)
-    out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    out[_counts(values)] = grouped[_counts(values)].sum()
     out = out.reset_index()
     out["instruction"] = BOTH
     return out
@@ -162,7 +174,8 @@ def summary_long(
     Returns:
         Columns ``by``, ``instruction``, the grouping's column (``suite``), the values
         (:data:`VALUES`, with :data:`EXEC_VALUES` after ``Loc_over_blind`` when the records
-        include executing runs), ``n`` and ``n_error``; rows ordered by system (first
+        include executing runs), ``n``, ``n_error`` (``n_executed`` with execution) and
+        ``missing_groups``; rows ordered by system (first
         appearance), instruction (explicit, implicit, both), group (table order, overall last).
     """
     keys, group = by_columns(by), grouping.column
@@ -182,8 +195,26 @@ def summary_long(
     table["_i"] = table["instruction"].map(INSTRUCTION_ORDER.index)
     table["_g"] = table[group].map(grouping.position)
     table = table.sort_values(["_s", "_i", "_g"], kind="stable")
-    columns = [*keys, "instruction", group, *values, "n", "n_error", MISSING]
+    columns = [*keys, "instruction", group, *values, *_counts(values), MISSING]
     return table[columns].reset_index(drop=True)
+
+
+def exec_coverage(
+    long: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES
+) -> dict[tuple[object, ...], tuple[int, int]]:
+    """(``by`` values, instruction, group) → (executed, answered) episodes, for the cells whose
+    execution values cover only some of their episodes (see the module docstring)."""
+    if "n_executed" not in long.columns:
+        return {}
+    keys = by_columns(by)
+    rows = long[(long["n_executed"] > 0) & (long["n_executed"] < long["n"])]
+    return {
+        (*(r[k] for k in keys), r["instruction"], r[grouping.column]): (
+            int(r["n_executed"]),
+            int(r["n"]),
+        )
+        for r in rows.to_dict("records")
+    }
 
 
 def partial_overalls(long: pd.DataFrame, by: By = "model") -> dict[tuple[object, ...], list[str]]:

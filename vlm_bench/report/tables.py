@@ -13,9 +13,11 @@ from rich.table import Table
 from vlm_bench.report.dataframe import load_records_frame
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.summary import (
+    TABLE_EXEC_VALUES,
     VALUES,
     By,
     by_columns,
+    exec_coverage,
     partial_overalls,
     summary_long,
     summary_wide,
@@ -46,6 +48,10 @@ EXEC_LEGEND = (
     "episodes, an output with no plan counting 0; summary.csv adds S_pos, S_arm, "
     "S_safe and VLA_total."
 )
+COVERAGE_LEGEND = (
+    "Exec and Task with (e/n) cover only the e of the cell's n answered episodes that were "
+    "executed (the others come from runs that do not execute plans)."
+)
 
 
 PARTIAL = "†"
@@ -75,14 +81,30 @@ def partial_warnings(long: pd.DataFrame, by: By, grouping: Grouping) -> list[str
     return out
 
 
+Coverage = dict[tuple[object, ...], tuple[int, int]]
+
+
+def cell_text(value: object, metric: str, cell: tuple[object, ...], coverage: Coverage) -> str:
+    """A table number; an execution value over only some of the cell's episodes gets the
+    executed count beside it ("100.0 (20/60)", :func:`~vlm_bench.report.summary.exec_coverage`)."""
+    text = fmt(value)
+    if metric in TABLE_EXEC_VALUES and text != "–" and cell in coverage:
+        done, n = coverage[cell]
+        text += f" ({done}/{n})"
+    return text
+
+
 def _row_texts(
-    wide: pd.DataFrame, key: tuple[object, ...], partial: dict[tuple[object, ...], list[str]]
+    wide: pd.DataFrame,
+    key: tuple[object, ...],
+    partial: dict[tuple[object, ...], list[str]],
+    coverage: Coverage,
 ) -> list[str]:
-    """A wide row's cells as text, a partial Overall marked."""
+    """A wide row's cells as text: a partial Overall marked, partial execution counted."""
     mark = PARTIAL if tuple(key) in partial else ""
     return [
-        fmt(v) + (mark if g == OVERALL and fmt(v) != "–" else "")
-        for (g, _), v in zip(wide.columns, wide.loc[key].tolist(), strict=True)
+        cell_text(v, m, (*key, g), coverage) + (mark if g == OVERALL and fmt(v) != "–" else "")
+        for (g, m), v in zip(wide.columns, wide.loc[key].tolist(), strict=True)
     ]
 
 
@@ -127,23 +149,26 @@ def summary_markdown(long: pd.DataFrame, by: By = "model", grouping: Grouping = 
         "| " + " | ".join(head) + " |",
         "|" + "|".join([":--"] * labels + ["--:"] * (len(head) - labels)) + "|",
     ]
-    partial = partial_overalls(long, by)
+    partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
     for key in wide.index:
-        cells = [*(str(k) for k in key), *_row_texts(wide, key, partial)]
+        cells = [*(str(k) for k in key), *_row_texts(wide, key, partial, coverage)]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     overall = long[long[grouping.column] == OVERALL]
     n = int(overall[overall["instruction"] != "both"]["n"].sum())
     legend = LEGEND.format(groups="suite" if grouping.name == "suites" else "paper's")
     legend = f"{legend} {EXEC_LEGEND}" if "exec_success" in metrics else legend
+    legend = f"{legend} {COVERAGE_LEGEND}" if exec_coverage(long, by, grouping) else legend
     names = group_legend(grouping, groups)
     warnings = "".join(f"\n**Warning.** {w}\n" for w in partial_warnings(long, by, grouping))
     return "\n".join(lines) + f"\n\n{names}. {legend} Episodes scored: {n}.\n" + warnings
 
 
-def _caption(metrics: Sequence[str]) -> str:
+def _caption(metrics: Sequence[str], covered: bool = False) -> str:
     caption = "Succ in %; Overall = mean of the column groups"
     if "exec_success" in metrics:
         caption += "; Exec = execution success in %, Task = S_task"
+    if covered:
+        caption += "; (e/n) = executed e of n episodes"
     return caption
 
 
@@ -157,7 +182,9 @@ def _rich_wide(
 ) -> Table:
     metrics = _metrics(wide)
     groups = _groups(wide)
-    caption = _warned(f"{group_legend(grouping, groups)}; {_caption(metrics)}", long, by, grouping)
+    covered = bool(exec_coverage(long, by, grouping))
+    caption = f"{group_legend(grouping, groups)}; {_caption(metrics, covered)}"
+    caption = _warned(caption, long, by, grouping)
     table = Table(title=title, caption=caption)
     for name in system_headers(by):
         table.add_column(name, no_wrap=True)
@@ -168,9 +195,9 @@ def _rich_wide(
             table.add_column(
                 f"[bold]{label}[/]" if metric == "S_total" else label, justify="right", no_wrap=True
             )
-    partial = partial_overalls(long, by)
+    partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
     for key in wide.index:
-        table.add_row(*(str(k) for k in key), *_row_texts(wide, key, partial))
+        table.add_row(*(str(k) for k in key), *_row_texts(wide, key, partial, coverage))
     return table
 
 
@@ -179,12 +206,12 @@ def _rich_long(
 ) -> Table:
     keys = by_columns(by)
     metrics = table_values(long)
-    caption = _caption(metrics)
+    caption = _caption(metrics, bool(exec_coverage(long, by, grouping)))
     if short:
         present = [g for g in grouping.order if g in set(long[grouping.column])]
         caption = f"{group_legend(grouping, present)}; {caption}"
     caption = _warned(caption, long, by, grouping)
-    partial = partial_overalls(long, by)
+    partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
     # Eight metric columns (with execution) fit 80 characters only with the box's one-space
     # column separators and no padding.
     padding = (0, 0) if len(metrics) > len(VALUES) else (0, 1)
@@ -217,7 +244,7 @@ def _rich_long(
             *(str(row[k]) if first else "" for k in keys),
             str(row["instruction"]) if first else "",
             name,
-            *(fmt(row[m]) for m in metrics),
+            *(cell_text(row[m], m, (*group, value), coverage) for m in metrics),
             str(row["n"]),
         ]
         table.add_row(*cells, style="bold" if bold else None, end_section=overall)
