@@ -13,6 +13,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from vlm_bench.types.base import Frozen
+from vlm_bench.types.parse import AnswerFormat
 
 CardBackend = Literal["hf", "vllm", "openai"]
 """The model backends a card can give a recipe for."""
@@ -53,6 +54,10 @@ class ModelCard(Frozen):
         default_factory=dict, description="Backends that cannot serve it, and why."
     )
     quirks: tuple[str, ...] = Field(default=(), description="Known problems and their remedies.")
+    answer_format: AnswerFormat | None = Field(
+        default=None,
+        description="Documented reasoning/answer tags; output in that form parses as valid.",
+    )
 
     @model_validator(mode="after")
     def _recipes_match_support(self) -> ModelCard:
