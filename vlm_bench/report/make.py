@@ -176,7 +176,9 @@ def _add_paired(report: Report, name: str) -> None:
             pairs,
             f"Paired comparison with {name}",
             "A − B on the episodes both answered: the table's overall estimator with a "
-            "task-clustered bootstrap interval, and the exact sign test over episodes.",
+            "task-clustered bootstrap interval, and the exact sign test over tasks (a task's "
+            "episodes are not independent: each task counts once, by its mean difference; "
+            "the number of tasks is beside each p-value).",
         )
     )
 

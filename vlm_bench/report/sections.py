@@ -134,8 +134,8 @@ def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
             "95 % CI": "–" if r["lo"] != r["lo"] else f"[{r['lo']:.1f}, {r['hi']:.1f}]",
             "n": r["n"],
             "tasks": r["n_tasks"],
-            "A>B/A<B/=": f"{r['n_better']}/{r['n_worse']}/{r['n_tied']}",
-            "sign p": p_value(r["p_sign"]),
+            "tasks A>B/A<B/=": f"{r['n_better']}/{r['n_worse']}/{r['n_tied']}",
+            "sign p (tasks)": f"{p_value(r['p_sign'])} ({r['n_tasks']})",
         }
         for r in pairs.to_dict("records")
         if r["n"] > 0
@@ -143,5 +143,5 @@ def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
     frame = pd.DataFrame(rows)
     if not frame.empty and frame["B"].nunique() == 1:
         frame = frame.drop(columns="B")
-    numeric = ("A − B", "95 % CI", "n", "tasks", "A>B/A<B/=", "sign p")
+    numeric = ("A − B", "95 % CI", "n", "tasks", "tasks A>B/A<B/=", "sign p (tasks)")
     return Section(title, caption, frame, numeric)
