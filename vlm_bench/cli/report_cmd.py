@@ -42,6 +42,16 @@ def report(
     standalone: Annotated[
         bool, typer.Option("--standalone", help="LaTeX: a whole document (pdflatex-ready).")
     ] = False,
+    fit_width: Annotated[
+        bool, typer.Option("--fit-width", help="LaTeX: scale each table to the text width.")
+    ] = False,
+    label: Annotated[
+        list[str] | None,
+        typer.Option(
+            metavar="RUN=NAME",
+            help="LaTeX: row name for a run (repeatable); default the model card's name.",
+        ),
+    ] = None,
     sort: Annotated[str, typer.Option(help="Row order: given, or total (overall Tot).")] = "given",
     stats: Annotated[
         bool, typer.Option("--stats/--no-stats", help="Intervals, parse tiers, error codes.")
@@ -71,6 +81,7 @@ def report(
 ) -> None:
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
     from vlm_bench.report.make import build_report, render_tables, warnings, write_outputs
+    from vlm_bench.report.names import parse_labels
     from vlm_bench.report.report_options import report_options
 
     options = report_options(
@@ -80,6 +91,8 @@ def report(
         format=format,
         out=out,
         standalone=standalone,
+        fit_width=fit_width,
+        labels=parse_labels(tuple(label or ())),
         sort=sort,
         stats=stats,
         paired=paired,

@@ -25,6 +25,7 @@ from vlm_bench.report.diagnostics import (
 from vlm_bench.report.groups import Grouping, grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import load
+from vlm_bench.report.names import display_names
 from vlm_bench.report.paired import find_system, paired_table
 from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
@@ -104,6 +105,7 @@ def build_report(options: ReportOptions) -> Report:
     groupings = [grouping(n) for n in names]
     if options.paired is not None:
         find_system(frame, by, options.paired)
+    display_names(frame, by, options.labels)  # an unknown --label fails before any file
     tables = {}
     for g in groupings:
         long = summary_long(frame, by, g)
@@ -227,8 +229,16 @@ def render_tables(report: Report) -> str | bytes:
     if fmt == "parquet":
         return bytes(long_with_cis(report).to_parquet(index=False))
     if fmt == "latex":
+        names = display_names(report.frame, by, options.labels)
         floats = [
-            summary_latex(report.tables[g.name], by, g, label=f"tab:vlm_planning_{g.name}")
+            summary_latex(
+                report.tables[g.name],
+                by,
+                g,
+                label=f"tab:vlm_planning_{g.name}",
+                names=names,
+                fit_width=options.fit_width,
+            )
             for g in report.groupings
         ]
         text = "\n".join(floats)
