@@ -18,6 +18,8 @@ if TYPE_CHECKING:
     from vlm_bench.report.make import Report
 
 console = Console()
+PIPE_WIDTH = 200
+"""Width of the tables when stdout is no terminal (a pipe or file), as with ``--out``."""
 
 
 def _split(text: str) -> tuple[str, ...]:
@@ -110,8 +112,10 @@ def report(
         tables = render_tables(result)
     elif options.out is not None:
         buffer = io.StringIO()
-        _print_terminal(result, Console(file=buffer, width=200, color_system=None))
+        _print_terminal(result, Console(file=buffer, width=PIPE_WIDTH, color_system=None))
         tables = buffer.getvalue()
+    elif not console.is_terminal:  # piped: no terminal width to respect, nothing cut
+        _print_terminal(result, Console(width=PIPE_WIDTH, color_system=None))
     else:
         _print_terminal(result, console)
     if options.out is None and isinstance(tables, str):

@@ -16,6 +16,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
 from vlm_bench.report.bootstrap import bootstrap_cis
+from vlm_bench.report.dataframe import csv_ready
 from vlm_bench.report.diagnostics import (
     error_code_table,
     failure_code_table,
@@ -29,7 +30,13 @@ from vlm_bench.report.names import display_names
 from vlm_bench.report.paired import find_system, paired_table
 from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
-from vlm_bench.report.summary import partial_overalls, sort_systems, summary_long, table_values
+from vlm_bench.report.summary import (
+    partial_overalls,
+    sort_systems,
+    summary_long,
+    system_order,
+    table_values,
+)
 from vlm_bench.report.tables import partial_warnings, summary_markdown
 from vlm_bench.report.text import frame_markdown
 from vlm_bench.storage.jsonl import write_text_atomic
@@ -173,6 +180,18 @@ def _add_paired(report: Report, name: str) -> None:
         options.seed,
         options.level,
     )
+    others = [s for s in system_order(frame, by) if s != find_system(frame, by, name)]
+    if not others or not (pairs["n"] > 0).any():
+        why = "no other row" if not others else "no episode in common with any other row"
+        report.sections.append(
+            Section(
+                f"Paired comparison with {name}",
+                f"Nothing to compare: {why} (--by {','.join(by)} gives the rows; give runs of "
+                "other systems over the same episodes).",
+                pd.DataFrame({"note": [f"{why} to compare with {name}"]}),
+            )
+        )
+        return
     report.sections.append(
         pair_section(
             pairs,
@@ -273,7 +292,7 @@ def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Pat
         if options.episodes.suffix == ".parquet":
             episodes.to_parquet(options.episodes, index=False)
         else:
-            episodes.to_csv(options.episodes, index=False)
+            csv_ready(episodes).to_csv(options.episodes, index=False)
         written.append(options.episodes)
     if options.plots is not None:
         from vlm_bench.report.plots import write_plots

@@ -220,7 +220,7 @@ def _rich_long(
     )
     for name in system_headers(by):
         table.add_column(name, overflow="fold")
-    table.add_column("Instr.")
+    table.add_column("Instr.", no_wrap=True, min_width=8)  # "explicit" in full
     table.add_column("Suite" if grouping.name == "suites" else "Column", no_wrap=True)
     for metric in metrics:
         bold = metric == "S_total"
