@@ -90,3 +90,11 @@ def test_csv_and_parquet_carry_n_executed(runs: list[str], tmp_path: Path) -> No
     options = options.model_copy(update={"format": "parquet", "out": out})
     out.write_bytes(render_tables(build_report(options)))  # type: ignore[arg-type]
     assert "n_executed" in pd.read_parquet(out).columns
+
+
+def test_the_interval_table_counts_the_executed_episodes_too(runs: list[str]) -> None:
+    options = report_options(runs=tuple(runs), by=BY, format="markdown", n_boot=100)
+    text = render_tables(build_report(options))
+    assert isinstance(text, str)
+    section = text.split("## Overall with confidence intervals")[1].split("##")[0]
+    assert "100.0 (2/4)" in section

@@ -8,7 +8,14 @@ from dataclasses import dataclass
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, Grouping
-from vlm_bench.report.summary import By, by_columns, headline, system_order, system_rows
+from vlm_bench.report.summary import (
+    EXEC_VALUES,
+    By,
+    by_columns,
+    headline,
+    system_order,
+    system_rows,
+)
 from vlm_bench.report.tables import HEADERS, PARTIAL, system_headers
 from vlm_bench.report.text import p_value, with_ci
 
@@ -56,6 +63,8 @@ def ci_section(
         for m in metrics:
             c = cells.loc[m] if m in cells.index else None
             row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"]) + mark
+            if c is not None and m in EXEC_VALUES and int(c["n"]) < int(first["n"]):
+                row[HEADERS[m]] = f"{row[HEADERS[m]]} ({int(c['n'])}/{int(first['n'])})"
             if c is not None:
                 narrow.append({**label, "metric": HEADERS[m], "value [CI]": row[HEADERS[m]]})
         row["n"], row["tasks"] = int(first["n"]), int(first["n_tasks"])
