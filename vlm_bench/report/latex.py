@@ -19,6 +19,7 @@ from collections.abc import Mapping, Sequence
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
+from vlm_bench.report.marks import partial_warnings
 from vlm_bench.report.summary import (
     BOTH,
     TABLE_EXEC_VALUES,
@@ -29,7 +30,7 @@ from vlm_bench.report.summary import (
     summary_wide,
     table_values,
 )
-from vlm_bench.report.tables import HEADERS, partial_warnings, system_headers
+from vlm_bench.report.tables import HEADERS, system_headers
 
 INSTRUCTION_SHORT = {"explicit": "Exp.", "implicit": "Imp.", BOTH: "Both"}
 _SPECIAL = re.compile(r"([\\&%$#_{}~^])")

@@ -26,6 +26,7 @@ from vlm_bench.report.diagnostics import (
 from vlm_bench.report.groups import Grouping, grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import load
+from vlm_bench.report.marks import partial_warnings
 from vlm_bench.report.names import display_names
 from vlm_bench.report.paired import find_system, paired_table
 from vlm_bench.report.report_options import ReportOptions
@@ -37,7 +38,7 @@ from vlm_bench.report.summary import (
     system_order,
     table_values,
 )
-from vlm_bench.report.tables import partial_warnings, summary_markdown
+from vlm_bench.report.tables import summary_markdown
 from vlm_bench.report.text import frame_markdown
 from vlm_bench.storage.jsonl import write_text_atomic
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, Grouping
+from vlm_bench.report.marks import PARTIAL
 from vlm_bench.report.summary import (
     EXEC_VALUES,
     By,
@@ -16,7 +17,7 @@ from vlm_bench.report.summary import (
     system_order,
     system_rows,
 )
-from vlm_bench.report.tables import HEADERS, PARTIAL, system_headers
+from vlm_bench.report.tables import HEADERS, system_headers
 from vlm_bench.report.text import p_value, with_ci
 
 

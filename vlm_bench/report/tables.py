@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -12,8 +11,8 @@ from rich.table import Table
 
 from vlm_bench.report.dataframe import load_records_frame
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
+from vlm_bench.report.marks import PARTIAL, cell_text, partial_warnings, row_texts
 from vlm_bench.report.summary import (
-    TABLE_EXEC_VALUES,
     VALUES,
     By,
     by_columns,
@@ -54,67 +53,6 @@ COVERAGE_LEGEND = (
 )
 
 
-PARTIAL = "†"
-"""Mark of a partial Overall (a row missing groups of the table), never bold."""
-
-
-def partial_warnings(long: pd.DataFrame, by: By, grouping: Grouping) -> list[str]:
-    """One warning per system whose Overall is partial, naming the groups it lacks (and the
-    instruction rows, when not all of the system's rows lack the same)."""
-    keys = by_columns(by)
-    rows: dict[tuple[object, ...], list[str]] = {}
-    for key in long[[*keys, "instruction"]].drop_duplicates().itertuples(index=False, name=None):
-        rows.setdefault(tuple(key[:-1]), []).append(str(key[-1]))
-    found: dict[tuple[tuple[object, ...], tuple[str, ...]], list[str]] = {}
-    for key, groups in partial_overalls(long, by).items():
-        found.setdefault((tuple(key[:-1]), tuple(groups)), []).append(str(key[-1]))
-    out = []
-    for (system, missing), instructions in found.items():
-        name = " ".join(map(str, system))
-        if instructions != rows[system]:
-            name += f" ({', '.join(instructions)})"
-        lacks = ", ".join(grouping.short.get(g, g) for g in missing)
-        out.append(
-            f"Partial Overall{PARTIAL}: {name} has no episode in {lacks}; its Overall averages "
-            "the other groups only and is not comparable with complete rows."
-        )
-    return out
-
-
-Coverage = dict[tuple[object, ...], tuple[int, int]]
-
-
-def cell_text(value: object, metric: str, cell: tuple[object, ...], coverage: Coverage) -> str:
-    """A table number; an execution value over only some of the cell's episodes gets the
-    executed count beside it ("100.0 (20/60)", :func:`~vlm_bench.report.summary.exec_coverage`)."""
-    text = fmt(value)
-    if metric in TABLE_EXEC_VALUES and text != "–" and cell in coverage:
-        done, n = coverage[cell]
-        text += f" ({done}/{n})"
-    return text
-
-
-def _row_texts(
-    wide: pd.DataFrame,
-    key: tuple[object, ...],
-    partial: dict[tuple[object, ...], list[str]],
-    coverage: Coverage,
-) -> list[str]:
-    """A wide row's cells as text: a partial Overall marked, partial execution counted."""
-    mark = PARTIAL if tuple(key) in partial else ""
-    return [
-        cell_text(v, m, (*key, g), coverage) + (mark if g == OVERALL and fmt(v) != "–" else "")
-        for (g, m), v in zip(wide.columns, wide.loc[key].tolist(), strict=True)
-    ]
-
-
-def fmt(value: object) -> str:
-    """A table number with one decimal; – for a missing value."""
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "–"
-    return f"{float(value):.1f}"  # type: ignore[arg-type]
-
-
 def _groups(wide: pd.DataFrame) -> list[str]:
     return list(dict.fromkeys(col[0] for col in wide.columns))
 
@@ -151,7 +89,7 @@ def summary_markdown(long: pd.DataFrame, by: By = "model", grouping: Grouping = 
     ]
     partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
     for key in wide.index:
-        cells = [*(str(k) for k in key), *_row_texts(wide, key, partial, coverage)]
+        cells = [*(str(k) for k in key), *row_texts(wide, key, partial, coverage)]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     overall = long[long[grouping.column] == OVERALL]
     n = int(overall[overall["instruction"] != "both"]["n"].sum())
@@ -197,7 +135,7 @@ def _rich_wide(
             )
     partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
     for key in wide.index:
-        table.add_row(*(str(k) for k in key), *_row_texts(wide, key, partial, coverage))
+        table.add_row(*(str(k) for k in key), *row_texts(wide, key, partial, coverage))
     return table
 
 
