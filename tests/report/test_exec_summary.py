@@ -131,5 +131,5 @@ def test_executing_runs_are_guessed_without_manifests(rec: Callable[..., Episode
             rec("b", "base_manipulation", 0, "explicit", None),
         ]
     )
-    assert frame.exec_success.tolist()[:2] == [0.0, 0.0]
-    assert math.isnan(frame.exec_success.iloc[2])
+    assert frame.exec_success.tolist()[:2] == [False, False]
+    assert frame.exec_success.isna().iloc[2]

@@ -134,3 +134,70 @@ def test_gallery_in_headless_chromium(real_runs: dict[str, Path], tmp_path: Path
             assert errors == []
         finally:
             browser.close()
+
+
+def test_planning_only_gallery_has_no_execution_legend(
+    real_runs: dict[str, Path], tmp_path: Path
+) -> None:
+    html = _gallery(real_runs, tmp_path / "g")  # the mock run does not execute plans
+    assert "step where execution failed" not in html and 'id="f-exec"' not in html
+
+
+def _report_gallery(real_runs: dict[str, Path], out: Path) -> list[Path]:
+    from vlm_bench.report import load, report_options
+    from vlm_bench.report.gallery import write_galleries
+
+    runs = tuple(str(real_runs[m]) for m in ("oracle", "random", "mock"))
+    frame = load(*runs)
+    return write_galleries(frame, out, report_options(runs=runs, render_missing=False))
+
+
+def test_report_gallery_has_an_index_and_a_compare_page_per_episode(
+    real_runs: dict[str, Path], tmp_path: Path
+) -> None:
+    written = _report_gallery(real_runs, tmp_path / "g")
+    index = (tmp_path / "g" / "index.html").read_text(encoding="utf-8")
+    assert tmp_path / "g" / "index.html" in written
+    for run in ("oracle", "random", "mock"):
+        assert f'href="{run}/index.html"' in index
+    compare = sorted((tmp_path / "g" / "compare").glob("*.html"))
+    assert len(compare) == 8  # 2 tasks x 2 seeds x 2 instructions
+    html = (tmp_path / "g" / "compare" / "standard_pick_place_0_explicit.html").read_text()
+    assert html.count('<section class="plan run">') == 3 and html.count("<img ") == 4
+    assert html.count('src="../oracle/img/standard_pick_place_0_') == 4  # the views once
+    run_page = (tmp_path / "g" / "mock" / "index.html").read_text(encoding="utf-8")
+    assert 'href="../compare/standard_pick_place_0_explicit.html"' in run_page
+
+
+def test_index_and_compare_pages_in_headless_chromium(
+    real_runs: dict[str, Path], tmp_path: Path
+) -> None:
+    executable = _browser()
+    from playwright.sync_api import sync_playwright
+
+    _report_gallery(real_runs, tmp_path / "g")
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=executable, args=["--no-sandbox"])
+        try:
+            page = browser.new_page()
+            errors: list[str] = []
+            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto((tmp_path / "g" / "index.html").as_uri())
+            assert page.locator("#runs tbody tr").count() == 3
+            assert page.locator("#episodes tbody tr").count() == 8
+            page.click("text=standard_pick_place/0/explicit")
+            page.wait_for_load_state("load")
+            assert page.url.endswith("compare/standard_pick_place_0_explicit.html")
+            assert page.locator("section.plan").count() == 4  # GT and three runs
+            loaded = page.evaluate(
+                "Array.from(document.images).filter(i => i.complete && i.naturalWidth > 0).length"
+            )
+            assert loaded == 4
+            assert "UAV" in page.inner_text("#gt")
+            page.click("section.run >> text=mock")
+            page.wait_for_load_state("load")
+            assert page.url.split("#")[0].endswith("mock/index.html")
+            assert errors == []
+        finally:
+            browser.close()

@@ -17,6 +17,7 @@ from vlm_bench.report import (
     failure_code_table,
     loc_over_blind_run,
     paired_comparison,
+    paired_table,
     parse_tier_rates,
     records_frame,
     sign_test,
@@ -132,7 +133,7 @@ def test_paired_comparison_of_a_run_with_itself_is_zero(make_record: Make) -> No
     for metric in ("S_total", "Succ", "S_loc"):
         same = paired_comparison(frame, "a", "a", metric)
         assert same.diff == 0.0 and same.lo <= 0.0 <= same.hi
-        assert (same.n, same.n_tasks, same.n_tied, same.p_sign) == (16, 4, 16, 1.0)
+        assert (same.n, same.n_tasks, same.n_tied, same.p_sign) == (16, 4, 4, 1.0)
     twin = paired_comparison(frame, "a", "b")  # identical scores in another run
     assert twin.diff == 0.0 and twin.lo == 0.0 == twin.hi
 
@@ -150,6 +151,28 @@ def test_paired_comparison_hand_computed(make_record: Make) -> None:
     assert result.p_sign == pytest.approx(0.25)
     # Long-horizon has one common task: resampling cannot vary it, so no interval.
     assert math.isnan(result.lo) and math.isnan(result.hi)
+
+
+def test_the_sign_test_counts_tasks_not_episodes(make_record: Make) -> None:
+    """5 tasks × 2 seeds × 2 instructions, A better on all 20 episodes: over episodes the sign
+    test would give 2 / 2^20 < 0.001; a task's episodes are one unit, so p = 2 / 2^5."""
+    tasks = ("standard_pick_place", "color_distractor_green", "target_color_yellow",
+             "tower_stacking", "drawer_interaction")  # fmt: skip
+    recs = [
+        make_record(run, t, s, v, score, run=run)
+        for run, score in (("a", 80.0), ("b", 40.0))
+        for t in tasks
+        for s in (0, 1)
+        for v in ("explicit", "implicit")
+    ]
+    frame = records_frame(recs).assign(run=lambda f: f.run_id)
+    result = paired_comparison(frame, "a", "b", "S_total", n_boot=100)
+    assert (result.n, result.n_tasks, result.n_better, result.n_worse) == (20, 5, 5, 0)
+    assert result.p_sign == pytest.approx(0.0625)
+    from vlm_bench.report.sections import pair_section
+
+    row = pair_section(paired_table(frame, "b", n_boot=100), "t", "c").frame.iloc[0]
+    assert row["sign p (tasks)"] == "0.062 (5)" and row["tasks A>B/A<B/="] == "5/0/0"
 
 
 def test_paired_comparison_errors(make_record: Make) -> None:
@@ -230,7 +253,7 @@ def test_loc_above_a_blind_run(make_record: Make) -> None:
     table = loc_over_blind_run(frame, n_boot=300).set_index("a")
     assert list(table.index) == ["vlm"] and table.loc["vlm", "b"] == "blind"
     assert table.loc["vlm", "diff"] == pytest.approx(25.0)  # (20 + 30) / 2
-    assert table.loc["vlm", "n_better"] == 4
+    assert table.loc["vlm", "n_better"] == 2  # tasks, not episodes
     assert 20.0 <= table.loc["vlm", "lo"] <= 25.0 <= table.loc["vlm", "hi"] <= 30.0
     assert loc_over_blind_run(frame[frame.model != "blind"]).empty
 

@@ -110,6 +110,7 @@ def test_rows_are_ordered_like_the_paper(frame: pd.DataFrame) -> None:
         "Loc_over_blind",
         "n",
         "n_error",
+        "missing_groups",
     ]
 
 

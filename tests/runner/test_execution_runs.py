@@ -78,7 +78,14 @@ def test_run_records_executions_and_summary_columns(tmp_path: Path) -> None:
     assert {r.key: r.execution for r in stored} == {r.key: r.execution for r in result.records}
 
     summary = pd.read_csv(tmp_path / "run" / "summary.csv")
-    assert list(summary.columns) == [*SUMMARY_COLUMNS[:-2], *EXEC_VALUES, "n", "n_error"]
+    assert list(summary.columns) == [
+        *SUMMARY_COLUMNS[:-3],
+        *EXEC_VALUES,
+        "n",
+        "n_error",
+        "n_executed",
+        "missing_groups",
+    ]
     explicit, implicit = _row(summary, "explicit"), _row(summary, "implicit")
     assert explicit.exec_success == 100.0 * hop.execution.exec_success
     assert explicit.S_task == pytest.approx(hop.execution.s_task)

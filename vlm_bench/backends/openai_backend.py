@@ -26,7 +26,7 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas, share_wall_time
+from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas
 from vlm_bench.backends.messages import openai_messages
 from vlm_bench.backends.openai_checks import (
     ServerUnreachableError,
@@ -157,20 +157,26 @@ class OpenAIBackend(Backend):
     def _one(
         self, request: GenerationRequest, config: GenerationConfig
     ) -> tuple[GenerationResult, bool]:
-        """The request's result, and whether it failed for want of a server."""
+        """The request's result (``latency_s``: its own time, retries included), and whether it
+        failed for want of a server."""
+        start = time.perf_counter()
         try:
             response = self._call(self.params(request, config))
         except self._openai.APIError as exc:
             unreachable = isinstance(exc, self._openai.APIConnectionError) and not isinstance(
                 exc, self._openai.APITimeoutError
             )
-            return GenerationResult(id=request.id, error=_describe(exc)), unreachable
+            own = time.perf_counter() - start
+            return GenerationResult(id=request.id, error=_describe(exc), latency_s=own), unreachable
+        own = time.perf_counter() - start
         if not response.choices:
-            return GenerationResult(id=request.id, error="server returned no choices"), False
+            result = GenerationResult(id=request.id, error="server returned no choices")
+            return result.model_copy(update={"latency_s": own}), False
         choice = response.choices[0]
         usage = response.usage
         result = GenerationResult(
             id=request.id,
+            latency_s=own,
             text=choice.message.content or "",
             prompt_tokens=usage.prompt_tokens if usage else None,
             completion_tokens=usage.completion_tokens if usage else None,
@@ -204,7 +210,9 @@ class OpenAIBackend(Backend):
                 f"the server at {server_url(self._client)} stopped answering "
                 f"({answers[0][0].error}); finished episodes are saved, re-run to resume"
             )
-        return share_wall_time([r for r, _ in answers], time.perf_counter() - start)
+        # Concurrent requests each have their own time; the call's is the batch's.
+        wall_s = time.perf_counter() - start
+        return [r.model_copy(update={"batch_latency_s": wall_s}) for r, _ in answers]
 
     def close(self) -> None:
         """Close the HTTP client."""

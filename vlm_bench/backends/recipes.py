@@ -91,7 +91,8 @@ def serve_line(card: ModelCard) -> str:
 
 
 def recipe_lines(card: ModelCard) -> dict[str, str]:
-    """Every command line of the card by label: hf, vllm, serve + openai (where supported)."""
+    """Every command line of the card by label: hf, vllm, serve + openai (where supported),
+    and ``sampled`` (the authors' decoding instead of greedy) where its preset is not greedy."""
     out: dict[str, str] = {}
     for backend in ("hf", "vllm"):
         if backend not in card.unsupported:
@@ -99,4 +100,7 @@ def recipe_lines(card: ModelCard) -> dict[str, str]:
     if "openai" not in card.unsupported and card.vllm_args is not None:
         out["server"] = serve_line(card)
         out["openai"] = run_line(card, "openai")
+    preset = card.sampling
+    if preset is not None and (preset.temperature > 0 or preset.repetition_penalty != 1.0):
+        out["sampled"] = run_line(card, card.backend) + " --sampling"
     return out

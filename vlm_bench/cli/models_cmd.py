@@ -4,11 +4,14 @@ backend dependency (torch, transformers, vllm, openai)."""
 from __future__ import annotations
 
 import json
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.console import Console
 from rich.table import Table
+
+if TYPE_CHECKING:
+    from vlm_bench.types.model_card import ModelCard
 
 console = Console()
 
@@ -39,14 +42,31 @@ def _listing() -> None:
     console.print(cards)
 
 
+def _sampling(card: ModelCard) -> str:
+    preset = card.sampling
+    if preset is None:
+        return "no preset"
+    if preset.temperature == 0 and preset.repetition_penalty == 1.0:
+        return f"greedy, as the authors decode ({preset.source})"
+    settings = preset.model_dump(exclude={"source"})
+    text = ", ".join(f"{k} {v}" for k, v in settings.items())
+    return f"{text} with --sampling ({preset.source})"
+
+
 def _recipe(name: str, as_json: bool) -> None:
     from vlm_bench.backends.recipes import recipe_lines
     from vlm_bench.catalog.model_cards import model_card
 
     card = model_card(name)
     lines = recipe_lines(card)
+    budget = card.token_budget()
     if as_json:
-        typer.echo(json.dumps({**card.model_dump(mode="json"), "commands": lines}, indent=1))
+        data = {
+            **card.model_dump(mode="json"),
+            "tokens_per_view": budget.model_dump(mode="json"),
+            "commands": lines,
+        }
+        typer.echo(json.dumps(data, indent=1))
         return
     console.print(f"[bold]{card.title}[/] ({card.name}) · {card.hub_id}", highlight=False)
     facts = [
@@ -55,7 +75,14 @@ def _recipe(name: str, as_json: bool) -> None:
         ("dtype", card.dtype),
         ("remote code", "yes" if card.remote_code else "no"),
         ("images", card.images),
+        (
+            "image tokens",
+            f"{budget.four_views} per {budget.resolution} px view of four, {budget.one_view} "
+            f"for one alone; the recipe's {budget.recipe_views} view(s): "
+            f"{budget.recipe_image_tokens}",
+        ),
         ("decoding", f"greedy, max_new_tokens {card.max_new_tokens}"),
+        ("sampling", _sampling(card)),
         ("in the paper", "yes" if card.in_paper else "no (a stand-in)"),
     ]
     facts += [(f"no {backend}", why) for backend, why in card.unsupported.items()]

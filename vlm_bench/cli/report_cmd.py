@@ -18,6 +18,8 @@ if TYPE_CHECKING:
     from vlm_bench.report.make import Report
 
 console = Console()
+PIPE_WIDTH = 200
+"""Width of the tables when stdout is no terminal (a pipe or file), as with ``--out``."""
 
 
 def _split(text: str) -> tuple[str, ...]:
@@ -42,6 +44,16 @@ def report(
     standalone: Annotated[
         bool, typer.Option("--standalone", help="LaTeX: a whole document (pdflatex-ready).")
     ] = False,
+    fit_width: Annotated[
+        bool, typer.Option("--fit-width", help="LaTeX: scale each table to the text width.")
+    ] = False,
+    label: Annotated[
+        list[str] | None,
+        typer.Option(
+            metavar="RUN=NAME",
+            help="LaTeX: row name for a run (repeatable); default the model card's name.",
+        ),
+    ] = None,
     sort: Annotated[str, typer.Option(help="Row order: given, or total (overall Tot).")] = "given",
     stats: Annotated[
         bool, typer.Option("--stats/--no-stats", help="Intervals, parse tiers, error codes.")
@@ -76,7 +88,8 @@ def report(
     ] = False,
 ) -> None:
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
-    from vlm_bench.report.make import build_report, render_tables, write_outputs
+    from vlm_bench.report.make import build_report, render_tables, warnings, write_outputs
+    from vlm_bench.report.names import parse_labels
     from vlm_bench.report.report_options import report_options
 
     options = report_options(
@@ -86,6 +99,8 @@ def report(
         format=format,
         out=out,
         standalone=standalone,
+        fit_width=fit_width,
+        labels=parse_labels(tuple(label or ())),
         sort=sort,
         stats=stats,
         paired=paired,
@@ -104,12 +119,17 @@ def report(
         tables = render_tables(result)
     elif options.out is not None:
         buffer = io.StringIO()
-        _print_terminal(result, Console(file=buffer, width=200, color_system=None))
+        _print_terminal(result, Console(file=buffer, width=PIPE_WIDTH, color_system=None))
         tables = buffer.getvalue()
+    elif not console.is_terminal:  # piped: no terminal width to respect, nothing cut
+        _print_terminal(result, Console(width=PIPE_WIDTH, color_system=None))
     else:
         _print_terminal(result, console)
     if options.out is None and isinstance(tables, str):
         sys.stdout.write(tables)
+    if options.format != "terminal" or options.out is not None:
+        for warning in warnings(result):
+            print(f"warning: {warning}", file=sys.stderr)
     for path in write_outputs(result, tables):
         print(f"wrote {path}", file=sys.stderr)
 

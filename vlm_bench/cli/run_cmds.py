@@ -65,6 +65,23 @@ def parse_views(text: str) -> tuple[str, ...]:
     return views
 
 
+def sampling_settings(model: str, temperature: float) -> dict[str, float | int]:
+    """The decoding settings of ``--sampling``: the model card's ``sampling`` preset.
+
+    Raises:
+        ConfigError: No card for the model, a card without a preset, or --temperature too.
+    """
+    from vlm_bench.catalog.model_cards import card_of
+
+    if temperature != 0.0:
+        raise ConfigError("give --sampling or --temperature, not both")
+    card = card_of(model)
+    if card is None or card.sampling is None:
+        what = "no model card" if card is None else f"card {card.name} has no sampling preset"
+        raise ConfigError(f"--sampling needs a model card's preset: {model!r} has {what}")
+    return card.sampling.model_dump(exclude={"source"})
+
+
 def parse_instructions(text: str) -> tuple[InstructionVariant, ...]:
     """``explicit``, ``implicit`` or ``both``."""
     if text.strip().lower() == "both":
@@ -144,6 +161,12 @@ def run(
     batch_size: Annotated[int, typer.Option(help="Requests per generate call.")] = 8,
     max_new_tokens: Annotated[int, typer.Option(help="Most tokens generated.")] = 512,
     temperature: Annotated[float, typer.Option(help="0 = greedy.")] = 0.0,
+    sampling: Annotated[
+        bool,
+        typer.Option(
+            "--sampling", help="Decode with the model card's recommended sampling (not greedy)."
+        ),
+    ] = False,
     run_name: Annotated[str | None, typer.Option(help="Folder name under results/.")] = None,
     out: Annotated[Path | None, typer.Option(help="Run folder (instead of --run-name).")] = None,
     no_snapshot_cache: Annotated[
@@ -176,12 +199,13 @@ def run(
 
     finite("--temperature", temperature)
     finite("--uav-noise", uav_noise)
+    decoding = sampling_settings(model, temperature) if sampling else {"temperature": temperature}
     try:
         generation = GenerationConfig(
             max_new_tokens=max_new_tokens,
-            temperature=temperature,
             constrained=constrained,
             batch_size=batch_size,
+            **decoding,
         )
     except ValidationError as exc:
         err = exc.errors()[0]

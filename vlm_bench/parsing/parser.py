@@ -7,11 +7,12 @@ from functools import lru_cache
 
 from jsonschema.protocols import Validator
 
+from vlm_bench.parsing.answer_tag import split_answer
 from vlm_bench.parsing.locate import locate_plan
 from vlm_bench.parsing.schema import plan_json_schema, schema_validator
 from vlm_bench.parsing.steps import normalise_step
 from vlm_bench.parsing.vocab import SceneIds, vocabulary
-from vlm_bench.types.parse import ParseCode, ParseResult
+from vlm_bench.types.parse import AnswerFormat, ParseCode, ParseResult
 
 
 @lru_cache(maxsize=256)
@@ -20,7 +21,9 @@ def _validator(object_ids: tuple[str, ...] | None) -> Validator:
     return schema_validator(plan_json_schema(object_ids, max_steps=None))
 
 
-def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResult:
+def parse_plan(
+    text: str, object_ids: Sequence[str] | None = None, answer_format: AnswerFormat | None = None
+) -> ParseResult:
     """Parse a model's plan output.
 
     Args:
@@ -28,6 +31,9 @@ def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResul
         object_ids: The scene's object and part ids. When given, references are matched to
             them (after case/separator normalisation) and others are flagged ``unknown_object``;
             the schema behind the ``valid`` tier then requires them.
+        answer_format: The model's documented reasoning/answer tags (its card's
+            ``answer_format``): output in exactly that form is judged by its answer alone, and
+            its reasoning is kept in :attr:`ParseResult.reasoning`.
 
     Returns:
         The plan with per-step validity and codes, plan-level codes, the repairs applied and a
@@ -35,7 +41,12 @@ def parse_plan(text: str, object_ids: Sequence[str] | None = None) -> ParseResul
         :func:`~vlm_bench.parsing.schema.plan_json_schema` (and every step is clean),
         ``repaired`` when a plan was obtained after repair or normalisation, else ``invalid``.
     """
-    located = locate_plan(text if isinstance(text, str) else "")
+    text = text if isinstance(text, str) else ""
+    tagged = split_answer(text, answer_format) if answer_format is not None else None
+    if tagged is not None:
+        result = parse_plan(tagged.answer, object_ids)
+        return result.model_copy(update={"reasoning": tagged.reasoning})
+    located = locate_plan(text)
     if located.items is None or not located.items:
         errors = located.errors or (ParseCode.EMPTY_PLAN,)
         return ParseResult(tier="invalid", errors=errors, repairs=located.repairs)

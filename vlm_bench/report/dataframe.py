@@ -19,9 +19,9 @@ METRICS = ("S_plan", "S_loc", "S_obj", "S_skill", "S_total")
 """Score columns, in the paper's order (Plan, Loc, Obj, Skill, Tot); Succ follows."""
 
 EXEC_METRICS = ("exec_success", "S_task", "S_pos", "S_arm", "S_safe", "VLA_total")
-"""Execution columns (docs/design.md#execution-metrics): success (1/0), sub-goal completion
-and the paper's VLA metrics. NaN for runs that do not execute plans and for backend errors; 0
-for an answered episode of an executing run whose output held no plan to execute."""
+"""Execution columns (docs/design.md#execution-metrics): success, sub-goal completion and the
+paper's VLA metrics. Missing (<NA>/NaN) for runs that do not execute plans and for backend
+errors; False/0 for an answered episode of an executing run whose output held no plan."""
 
 NO_PLAN = "no_plan"
 """``exec_failure_code`` of an answered episode of an executing run with no plan to execute
@@ -51,7 +51,15 @@ COLUMNS = (
     "completion_tokens",
     "backend_error",
 )
-"""Columns of :func:`records_frame`, in order."""
+"""Columns of :func:`records_frame`, in order.
+
+Types: the scores (``S_*``, ``VLA_total``, 0-100) are floats; the per-episode outcomes ``Succ``
+and ``exec_success`` are nullable booleans (True/False/<NA>), which the tables turn into
+percentages of episodes; ``error_tags`` is a list of strings; the token counts are nullable
+integers (``Int64``, <NA> where the backend did not say)."""
+OUTCOMES = ("Succ", "exec_success")
+"""Per-episode outcomes: nullable booleans in the frame, percentages in the tables."""
+TOKENS = ("prompt_tokens", "completion_tokens")
 
 
 def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
@@ -65,12 +73,13 @@ def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
     if run is None:
         return {
             **dict.fromkeys(EXEC_METRICS, 0.0),
+            "exec_success": False,
             "exec_failure": "not executed (no plan)",
             "exec_failure_code": NO_PLAN,
         }
     vla = run.scores
     return {
-        "exec_success": float(run.exec_success),
+        "exec_success": run.exec_success,
         "S_task": run.s_task,
         "S_pos": vla.s_pos if vla else 0.0,
         "S_arm": vla.s_arm if vla else 0.0,
@@ -104,7 +113,7 @@ def _row(record: EpisodeRecord, executed: bool, scoring: ScoringConfig) -> dict[
         "Loc_over_blind": scores.s_loc - floor if scores and floor is not None else None,
         "first_target_visible": record.first_target_visible,
         **_exec_values(record, executed),
-        "error_tags": ",".join(record.error_tags),
+        "error_tags": list(record.error_tags),
         "latency_s": record.latency_s,
         "prompt_tokens": record.prompt_tokens,
         "completion_tokens": record.completion_tokens,
@@ -143,8 +152,20 @@ def records_frame(
     rows = [_row(r, runs[r.run_id], options.get(r.run_id, DEFAULT)) for r in records]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
     for col in (*METRICS, "S_loc_blind", "Loc_over_blind", *EXEC_METRICS):
-        frame[col] = frame[col].astype(float)
+        if col not in OUTCOMES:
+            frame[col] = frame[col].astype(float)
+    for col in OUTCOMES:
+        frame[col] = frame[col].astype("boolean")
+    for col in TOKENS:
+        frame[col] = frame[col].astype("Int64")
     return frame
+
+
+def csv_ready(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` for a CSV file: ``error_tags`` joined by commas (Parquet keeps the lists)."""
+    if "error_tags" not in frame.columns:
+        return frame
+    return frame.assign(error_tags=frame["error_tags"].map(",".join))
 
 
 def load_records_frame(runs: Path | str | Sequence[Path | str]) -> pd.DataFrame:

@@ -46,7 +46,7 @@ def error_code_frequencies(frame: pd.DataFrame, by: By = "model") -> pd.DataFram
         tag) and ``share`` (percent of the system's answered episodes); codes by falling count.
     """
     ok = frame[frame["status"] == "ok"]
-    codes = ok.assign(code=ok["error_tags"].fillna("").str.split(",")).explode("code")
+    codes = ok.assign(code=ok["error_tags"]).explode("code").fillna({"code": ""})
     return _frequencies(frame, ok, codes, by)
 
 

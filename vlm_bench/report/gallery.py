@@ -159,8 +159,10 @@ def _environment() -> jinja2.Environment:
     return jinja2.Environment(loader=loader, autoescape=True, undefined=jinja2.StrictUndefined)
 
 
-def render_page(title: str, manifest: RunManifest, items: list[Card]) -> str:
-    """The gallery page (HTML text) of one run."""
+def render_page(
+    title: str, manifest: RunManifest, items: list[Card], index: str | None = None
+) -> str:
+    """The gallery page (HTML text) of one run; ``index`` links back to the report's index."""
     suites = list(dict.fromkeys(c.record.suite for c in items))
     codes = sorted({t for c in items for t in c.record.error_tags})
     seen_views = set(manifest.config.views) if manifest.config.images else set()
@@ -179,12 +181,26 @@ def render_page(title: str, manifest: RunManifest, items: list[Card]) -> str:
         "suite_titles": {s.value: t for s, t in SUITE_TITLES.items()},
         "outcome_labels": OUTCOMES,
         "execution_labels": {**EXECUTIONS, "off": "not executed (planning-only run)"},
+        "executes": manifest.config.execute,
+        "index": index,
     }
     return _environment().get_template(TEMPLATE).render(**context)
 
 
-def write_gallery(run_dir: Path, out: Path, inline: bool = False, render: bool = True) -> Path:
-    """Write ``out/index.html`` (and ``out/img/``) for one run folder; returns the page."""
+@dataclass
+class RunGallery:
+    """One run's gallery as written: its page, settings and episode cards."""
+
+    name: str
+    page: Path
+    manifest: RunManifest
+    cards: list[Card]
+
+
+def build_gallery(
+    run_dir: Path, out: Path, inline: bool = False, render: bool = True, name: str | None = None
+) -> RunGallery:
+    """Write ``out/index.html`` (and ``out/img/``) for one run folder."""
     from vlm_bench.report.gallery_views import EpisodeViews
 
     paths = RunPaths(run_dir)
@@ -197,19 +213,31 @@ def write_gallery(run_dir: Path, out: Path, inline: bool = False, render: bool =
     finally:
         views.close()
     page = out / "index.html"
-    write_text_atomic(page, render_page(run_dir.name, manifest, items))
-    return page
+    index = "../index.html" if name is not None else None
+    write_text_atomic(page, render_page(name or run_dir.name, manifest, items, index))
+    return RunGallery(name or run_dir.name, page, manifest, items)
+
+
+def write_gallery(run_dir: Path, out: Path, inline: bool = False, render: bool = True) -> Path:
+    """Write ``out/index.html`` (and ``out/img/``) for one run folder; returns the page."""
+    return build_gallery(run_dir, out, inline, render).page
 
 
 def write_galleries(frame: pd.DataFrame, folder: Path, options: ReportOptions) -> list[Path]:
-    """One gallery per run of the report, in ``folder/<run>/``."""
+    """One gallery per run of the report in ``folder/<run>/``, an index over them all
+    (``folder/index.html``) and a page per episode comparing the runs
+    (``folder/compare/``, :mod:`vlm_bench.report.gallery_index`)."""
+    from vlm_bench.report.gallery_index import write_index
+
     runs = frame.drop_duplicates("run")[["run", "run_dir"]].itertuples(index=False, name=None)
-    return [
-        write_gallery(
+    galleries = [
+        build_gallery(
             Path(run_dir),
             folder / str(run).replace("/", "_"),
             inline=options.inline_images,
             render=options.render_missing,
+            name=str(run),
         )
         for run, run_dir in runs
     ]
+    return [*(g.page for g in galleries), *write_index(folder, galleries)]

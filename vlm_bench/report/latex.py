@@ -1,23 +1,35 @@
 """The paper table as LaTeX (booktabs), laid out like AIR-VLA's ``tab:vlm_planning_comprehensive``.
 
-Rows are system × instruction (Exp./Imp.); each column group has Plan, Loc, Obj, Skill, Tot,
-Succ (and Exec, Task when plans were executed); the Overall group spans a system's two
-instruction rows with the ``both`` values, as the paper's "Overall Average" does. The best value
-of each column is bold (none where every row ties). The fragment needs only ``booktabs`` and
-``graphicx``: cells spanning two rows are lowered with ``\\raisebox`` instead of ``multirow``,
-which minimal TeX installations lack.
+Rows are system × instruction (Exp./Imp.), labelled by display name (the model card's, or
+``--label``); each column group has Plan, Loc, Obj, Skill, Tot, Succ (and Exec, Task when some
+row was executed); the Overall group spans a system's two instruction rows with the ``both``
+values, as the paper's "Overall Average" does. The best value of each column is bold (none where
+every row ties; never a partial Overall or a partly executed value). Standard column spacing in
+``\\footnotesize``, at natural size unless ``fit_width`` asks for ``\\resizebox``. The fragment
+needs only ``booktabs`` (and ``graphicx`` with ``fit_width``): cells spanning two rows are lowered
+with ``\\raisebox`` instead of ``multirow``, which minimal TeX installations lack.
 """
 
 from __future__ import annotations
 
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
-from vlm_bench.report.summary import BOTH, By, by_columns, summary_wide, table_values
+from vlm_bench.report.marks import partial_warnings
+from vlm_bench.report.summary import (
+    BOTH,
+    TABLE_EXEC_VALUES,
+    By,
+    by_columns,
+    exec_coverage,
+    partial_overalls,
+    summary_wide,
+    table_values,
+)
 from vlm_bench.report.tables import HEADERS, system_headers
 
 INSTRUCTION_SHORT = {"explicit": "Exp.", "implicit": "Imp.", BOTH: "Both"}
@@ -25,6 +37,10 @@ _SPECIAL = re.compile(r"([\\&%$#_{}~^])")
 _REPLACE = {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
 _LOWER = r"\raisebox{-0.6\normalbaselineskip}[0pt][0pt]{%s}"
 _HEAD = r"\raisebox{-1.2\normalbaselineskip}[0pt][0pt]{\textbf{%s}}"
+_PARTIAL = r"\textsuperscript{\dag}"
+_SIZE = r"\footnotesize"
+"""Type size of the tables: the paper layout's 24 columns fit a landscape page at standard
+column spacing (``--fit-width`` scales to the text width instead)."""
 
 
 def escape(text: str) -> str:
@@ -33,8 +49,14 @@ def escape(text: str) -> str:
 
 
 def _metrics(long: pd.DataFrame) -> list[str]:
-    # The paper's columns (ΔLoc is ours; it stays in the Markdown and terminal tables).
-    return [m for m in table_values(long) if m != "Loc_over_blind"]
+    # The paper's columns (ΔLoc is ours; it stays in the Markdown and terminal tables); Exec and
+    # Task only when some row was executed.
+    executed = "exec_success" in long.columns and long["exec_success"].notna().any()
+    return [
+        m
+        for m in table_values(long)
+        if m != "Loc_over_blind" and (executed or m not in TABLE_EXEC_VALUES)
+    ]
 
 
 def _best(values: Sequence[float]) -> float:
@@ -43,10 +65,14 @@ def _best(values: Sequence[float]) -> float:
     return max(finite) if len(set(finite)) > 1 else math.nan
 
 
-def _cell(value: float, best: float) -> str:
+def _cell(value: float, best: float, partial: bool = False, count: str = "") -> str:
     if math.isnan(value):
         return "--"
     text = f"{value:.1f}"
+    if count:  # execution over only some of the cell's episodes: never the best either
+        return rf"{text}\,{{\scriptsize({count})}}" + (_PARTIAL if partial else "")
+    if partial:  # a partial Overall is never the best
+        return text + _PARTIAL
     return (
         rf"\textbf{{{text}}}"
         if not math.isnan(best) and round(value, 1) == round(best, 1)
@@ -81,78 +107,112 @@ def summary_latex(
     grouping: Grouping = SUITES,
     caption: str | None = None,
     label: str = "tab:vlm_planning",
+    names: Mapping[tuple[object, ...], str] | None = None,
+    fit_width: bool = False,
 ) -> str:
-    """A ``table*`` float in the paper layout (see the module docstring)."""
+    """A ``table*`` float in the paper layout (see the module docstring).
+
+    Args:
+        long: The long summary (:func:`~vlm_bench.report.summary.summary_long`).
+        by: Its system column(s). grouping: Its column groups.
+        caption: Caption (default: the paper's, adapted). label: ``\\label``.
+        names: Display name per system (:func:`~vlm_bench.report.names.display_names`);
+            default the ``by`` values joined by '/'.
+        fit_width: Scale the tabular to the text width (default: natural size).
+    """
     keys = by_columns(by)
+    names = names or {}
     wide = summary_wide(long, keys, grouping)
     metrics = _metrics(long)
     groups = [g for g in dict.fromkeys(c[0] for c in wide.columns) if g != OVERALL]
     blocks = _blocks(wide, len(keys)) if not wide.empty else []
     group_rows = [(*s, r) for s, rows in blocks for r in rows]
     overall_rows = [_overall_of(wide, s, rows) for s, rows in blocks]
+    partial = partial_overalls(long, keys)
+    coverage = exec_coverage(long, keys, grouping)
+
+    def count(row: tuple[object, ...], group: str, metric: str) -> str:
+        done = coverage.get((*row, group)) if metric in TABLE_EXEC_VALUES else None
+        return f"{done[0]}/{done[1]}" if done else ""
+
+    complete = [r for r in overall_rows if r not in partial]
     best = {
-        (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows])
+        (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows if not count(r, g, m)])
         for g in groups
         for m in metrics
     }
     best.update(
         {
-            (OVERALL, m): _best([float(wide.loc[r, (OVERALL, m)]) for r in overall_rows])
+            (OVERALL, m): _best(
+                [float(wide.loc[r, (OVERALL, m)]) for r in complete if not count(r, OVERALL, m)]
+            )
             for m in metrics
         }
     )
     width = len(metrics)
-    lead = len(keys) + 1
-    spec = "l" * lead + "".join(" " + "c" * width for _ in [*groups, OVERALL])
+    lead = 2
+    spec = "ll" + "".join(" " + "r" * width for _ in [*groups, OVERALL])
     titles = [*(grouping.titles[g] for g in groups), "Overall Average"]
-    head = [_HEAD % escape(h) for h in [*system_headers(keys), "Instr."]]
+    head = [_HEAD % escape(h) for h in ["/".join(system_headers(keys)), "Instr."]]
     head += [rf"\multicolumn{{{width}}}{{c}}{{\textbf{{{escape(t)}}}}}" for t in titles]
     rules = " ".join(
         rf"\cmidrule(lr){{{lead + 1 + i * width}-{lead + (i + 1) * width}}}"
         for i in range(len(titles))
     )
-    names = [r"\textbf{Tot}" if m == "S_total" else HEADERS[m] for m in metrics]
+    columns = [r"\textbf{Tot}" if m == "S_total" else HEADERS[m] for m in metrics]
+    sub = ["/".join(system_headers(keys)), "Instr.", *(columns * len(titles))]
+    body: list[list[str]] = []
     lines = [
         r"\begin{table*}[t]",
         r"\centering",
         rf"\caption{{{caption or _default_caption(long, grouping)}}}",
         rf"\label{{{label}}}",
-        r"\renewcommand{\arraystretch}{1.2}",
-        r"\setlength{\tabcolsep}{1.2pt}",
-        r"\resizebox{\textwidth}{!}{%",
+        _SIZE,
+        *([r"\resizebox{\textwidth}{!}{%"] if fit_width else []),
         rf"\begin{{tabular}}{{{spec}}}",
         r"\toprule",
         " & ".join(head) + r" \\",
         rules,
-        " & ".join([""] * lead + names * len(titles)) + r" \\",
+        " & ".join([""] * lead + sub[lead:]) + r" \\",
         r"\midrule",
     ]
     for b, (system, rows) in enumerate(blocks):
         span = len(rows) == 2
         for i, row in enumerate(rows):
             first = i == 0
-            label_cells = [
-                (_LOWER % escape(str(v)) if span else escape(str(v))) if first else ""
-                for v in system
-            ]
-            cells = [*label_cells, INSTRUCTION_SHORT.get(row, escape(row))]
+            name = escape(names.get(system, "/".join(map(str, system))))
+            label_cell = (_LOWER % name if span else name) if first else ""
+            cells = [label_cell, INSTRUCTION_SHORT.get(row, escape(row))]
             key = (*system, row)
             cells += [
-                _cell(float(wide.loc[key, (g, m)]), best[(g, m)]) for g in groups for m in metrics
+                _cell(float(wide.loc[key, (g, m)]), best[(g, m)], count=count(key, g, m))
+                for g in groups
+                for m in metrics
             ]
             if first or not span:
                 source = overall_rows[b] if span else key
                 overall = [
-                    _cell(float(wide.loc[source, (OVERALL, m)]), best[(OVERALL, m)])
+                    _cell(
+                        float(wide.loc[source, (OVERALL, m)]),
+                        best[(OVERALL, m)],
+                        source in partial,
+                        count(source, OVERALL, m),
+                    )
                     for m in metrics
                 ]
                 cells += [_LOWER % c if span else c for c in overall]
             else:
                 cells += [""] * width
             lines.append(" & ".join(cells) + r" \\")
+            body.append(cells)
         if b < len(blocks) - 1:
             lines.append(r"\midrule")
-    lines += [r"\bottomrule", r"\end{tabular}}", r"\end{table*}"]
+    lines += [r"\bottomrule", r"\end{tabular}" + ("}" if fit_width else "")]
+    if not fit_width:
+        lines.insert(0, f"% natural width about {natural_width([*body, sub]):.0f}pt")
+    for warning in partial_warnings(long, keys, grouping):
+        lines.append(r"\par\smallskip\footnotesize " + escape(warning).replace("†", _PARTIAL))
+    lines.append(r"\end{table*}")
     return "\n".join(lines) + "\n"
 
 
@@ -171,11 +231,18 @@ def _default_caption(long: pd.DataFrame, grouping: Grouping) -> str:
 
 
 def latex_document(fragment: str) -> str:
-    """A standalone landscape document around a table fragment (compiles with ``pdflatex``)."""
+    """A standalone landscape document around table fragments (compiles with ``pdflatex``).
+
+    The page is A4 landscape, made wider where a table's natural width (the ``% natural width``
+    comment :func:`summary_latex` writes) needs it, so every table fits its page unscaled.
+    """
+    widths = [float(w) for w in _WIDTH.findall(fragment)]
+    page = max([_A4_LANDSCAPE_PT, *(1.1 * w + 2 * _MARGIN_PT for w in widths)])
     return "\n".join(
         [
             r"\documentclass{article}",
-            r"\usepackage[landscape,margin=1.5cm]{geometry}",
+            rf"\usepackage[paperwidth={page:.0f}pt,paperheight=595pt,margin={_MARGIN_PT:.0f}pt]"
+            r"{geometry}",
             r"\usepackage{booktabs}",
             r"\usepackage{graphicx}",
             r"\pagestyle{empty}",
@@ -185,3 +252,25 @@ def latex_document(fragment: str) -> str:
             "",
         ]
     )
+
+
+_A4_LANDSCAPE_PT = 842.0
+_MARGIN_PT = 28.0
+_WIDTH = re.compile(r"^% natural width about (\d+)pt$", re.M)
+_SEP_PT = 12.0
+"""Space between columns: twice the standard \\tabcolsep (6 pt)."""
+_CHAR_PT = 4.2
+"""Mean width of a character of the table's type (footnotesize digits 4.25 pt, period 2.4 pt)."""
+
+
+def _plain(cell: str) -> str:
+    """The visible text of a cell, roughly: commands and braces dropped."""
+    text = re.sub(r"\\raisebox\{[^}]*\}\[0pt\]\[0pt\]", "", cell)
+    text = re.sub(r"\\(textbf|textsuperscript|scriptsize|dag|,)", "", text)
+    return text.replace("{", "").replace("}", "").replace("\\", "")
+
+
+def natural_width(rows: Sequence[Sequence[str]]) -> float:
+    """An upper estimate of a tabular's natural width in points from its body cells."""
+    columns = zip(*rows, strict=True)
+    return sum(_SEP_PT + _CHAR_PT * max(len(_plain(c)) for c in col) for col in columns)

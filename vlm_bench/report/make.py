@@ -16,6 +16,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
 from vlm_bench.report.bootstrap import bootstrap_cis
+from vlm_bench.report.dataframe import csv_ready
 from vlm_bench.report.diagnostics import (
     error_code_table,
     failure_code_table,
@@ -25,10 +26,18 @@ from vlm_bench.report.diagnostics import (
 from vlm_bench.report.groups import Grouping, grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import load
+from vlm_bench.report.marks import partial_warnings
+from vlm_bench.report.names import display_names
 from vlm_bench.report.paired import find_system, paired_table
 from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
-from vlm_bench.report.summary import sort_systems, summary_long, table_values
+from vlm_bench.report.summary import (
+    partial_overalls,
+    sort_systems,
+    summary_long,
+    system_order,
+    table_values,
+)
 from vlm_bench.report.tables import summary_markdown
 from vlm_bench.report.text import frame_markdown
 from vlm_bench.storage.jsonl import write_text_atomic
@@ -106,6 +115,7 @@ def build_report(options: ReportOptions) -> Report:
     groupings = [grouping(n) for n in names]
     if options.paired is not None:
         find_system(frame, by, options.paired)
+    display_names(frame, by, options.labels)  # an unknown --label fails before any file
     tables = {}
     for g in groupings:
         long = summary_long(frame, by, g)
@@ -126,8 +136,11 @@ def build_report(options: ReportOptions) -> Report:
 def _add_sections(report: Report) -> None:
     options, frame, by = report.options, report.frame, list(report.options.by)
     first = report.groupings[0]
+    partial = partial_overalls(report.tables[first.name], by)
     report.sections.append(
-        ci_section(report.cis[first.name], by, first, options.n_boot, options.seed, options.level)
+        ci_section(
+            report.cis[first.name], by, first, options.n_boot, options.seed, options.level, partial
+        )
     )
     report.sections.append(tier_section(parse_tier_rates(frame, by), by))
     report.sections.append(code_section(error_code_table(frame, by), by))
@@ -170,12 +183,26 @@ def _add_paired(report: Report, name: str) -> None:
         options.seed,
         options.level,
     )
+    others = [s for s in system_order(frame, by) if s != find_system(frame, by, name)]
+    if not others or not (pairs["n"] > 0).any():
+        why = "no other row" if not others else "no episode in common with any other row"
+        report.sections.append(
+            Section(
+                f"Paired comparison with {name}",
+                f"Nothing to compare: {why} (--by {','.join(by)} gives the rows; give runs of "
+                "other systems over the same episodes).",
+                pd.DataFrame({"note": [f"{why} to compare with {name}"]}),
+            )
+        )
+        return
     report.sections.append(
         pair_section(
             pairs,
             f"Paired comparison with {name}",
             "A − B on the episodes both answered: the table's overall estimator with a "
-            "task-clustered bootstrap interval, and the exact sign test over episodes.",
+            "task-clustered bootstrap interval, and the exact sign test over tasks (a task's "
+            "episodes are not independent: each task counts once, by its mean difference; "
+            "the number of tasks is beside each p-value).",
         )
     )
 
@@ -205,6 +232,16 @@ def long_with_cis(report: Report) -> pd.DataFrame:
     return out[["grouping", *[c for c in out.columns if c != "grouping"]]]
 
 
+def warnings(report: Report) -> list[str]:
+    """What a reader must know beside the numbers: partial Overalls, per grouping."""
+    by = list(report.options.by)
+    return list(
+        dict.fromkeys(
+            w for g in report.groupings for w in partial_warnings(report.tables[g.name], by, g)
+        )
+    )
+
+
 def render_tables(report: Report) -> str | bytes:
     """The tables in ``options.format`` (not ``terminal``: the CLI prints rich tables)."""
     options, by = report.options, list(report.options.by)
@@ -214,8 +251,16 @@ def render_tables(report: Report) -> str | bytes:
     if fmt == "parquet":
         return bytes(long_with_cis(report).to_parquet(index=False))
     if fmt == "latex":
+        names = display_names(report.frame, by, options.labels)
         floats = [
-            summary_latex(report.tables[g.name], by, g, label=f"tab:vlm_planning_{g.name}")
+            summary_latex(
+                report.tables[g.name],
+                by,
+                g,
+                label=f"tab:vlm_planning_{g.name}",
+                names=names,
+                fit_width=options.fit_width,
+            )
             for g in report.groupings
         ]
         text = "\n".join(floats)
@@ -250,7 +295,7 @@ def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Pat
         if options.episodes.suffix == ".parquet":
             episodes.to_parquet(options.episodes, index=False)
         else:
-            episodes.to_csv(options.episodes, index=False)
+            csv_ready(episodes).to_csv(options.episodes, index=False)
         written.append(options.episodes)
     if options.plots is not None:
         from vlm_bench.report.plots import write_plots

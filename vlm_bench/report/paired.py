@@ -6,8 +6,12 @@ Common episodes are those both systems answered (same task, seed and instruction
 difference is the table's overall estimator applied to the per-episode differences (group cells,
 then the mean of the groups), so with every episode common it equals the difference of the two
 table values; its interval is the task-clustered bootstrap of :mod:`vlm_bench.report.bootstrap`.
-The sign test counts episodes where A is better / worse (ties dropped) and gives the exact
-two-sided binomial p-value under "either is as likely to be better".
+The sign test is at the task level: episodes of one task are not independent (its explicit and
+implicit episodes share the scene, and a planner that ignores the instruction answers both
+alike), so each task is one unit, its sign that of its mean difference over the common
+episodes. It counts tasks where A is better / worse (ties dropped) and gives the exact two-sided
+binomial p-value under "either is as likely to be better"; the tables print the number of
+tasks beside every p-value.
 """
 
 from __future__ import annotations
@@ -39,10 +43,12 @@ class PairedComparison(Frozen):
     diff: float = Field(description="A − B, the table's overall estimator on the differences.")
     lo: float = Field(description="Lower end of the bootstrap interval (NaN: too few tasks).")
     hi: float = Field(description="Upper end of the bootstrap interval.")
-    n_better: int = Field(ge=0, description="Episodes where A scores higher.")
-    n_worse: int = Field(ge=0, description="Episodes where A scores lower.")
-    n_tied: int = Field(ge=0, description="Episodes with equal scores.")
-    p_sign: float = Field(ge=0, le=1, description="Exact two-sided sign-test p-value.")
+    n_better: int = Field(ge=0, description="Tasks where A scores higher (mean over episodes).")
+    n_worse: int = Field(ge=0, description="Tasks where A scores lower.")
+    n_tied: int = Field(ge=0, description="Tasks with equal mean scores.")
+    p_sign: float = Field(
+        ge=0, le=1, description="Exact two-sided sign-test p-value over tasks (n_tasks units)."
+    )
 
 
 def sign_test(n_better: int, n_worse: int) -> float:
@@ -128,7 +134,8 @@ def paired_comparison(
     scale = 100.0 if metric in PERCENT else 1.0
     diff = (metric_values(both, f"{metric}_a") - metric_values(both, f"{metric}_b")) * scale
     both = both.assign(d=diff.to_numpy())
-    better, worse = int((both["d"] > 0).sum()), int((both["d"] < 0).sum())
+    per_task = both.groupby("task_id", sort=False)["d"].mean()
+    better, worse = int((per_task > 0).sum()), int((per_task < 0).sum())
     result = {
         "a": "/".join(map(str, sys_a)),
         "b": "/".join(map(str, sys_b)),
@@ -137,7 +144,7 @@ def paired_comparison(
         "n_tasks": int(both["task_id"].nunique()),
         "n_better": better,
         "n_worse": worse,
-        "n_tied": len(both) - better - worse,
+        "n_tied": len(per_task) - better - worse,
         "p_sign": sign_test(better, worse),
     }
     if both.empty:

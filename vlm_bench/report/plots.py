@@ -3,7 +3,11 @@
 * ``metrics.png``: grouped bars of every overall metric per system, with the bootstrap interval.
 * ``radar.png``: the four planning metrics (Plan, Loc, Obj, Skill) of each system.
 * ``loc_by_direction.png``: S_loc by the GT's first horizontal move (the eight sectors of the
-  UAV body frame), where the paper finds the bottleneck; intervals clustered by task.
+  UAV body frame), where the paper finds the bottleneck; intervals clustered by task, each
+  sector labelled with its episodes and tasks (the intervals' independent units).
+
+A metric a system has no value of (execution in a run that does not execute plans) gets no bar
+but a note ("not executed"), so that it cannot read as 0.
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.errors import MissingExtraError
 from vlm_bench.report.bootstrap import bootstrap_cis
+from vlm_bench.report.dataframe import EXEC_METRICS
 from vlm_bench.report.groups import OVERALL, Grouping
 from vlm_bench.report.summary import headline, system_order, system_rows
 from vlm_bench.report.tables import HEADERS
@@ -62,7 +67,12 @@ def _bars(
         lo = np.array([mine["lo"].get(m, np.nan) for m in metrics], dtype=float)
         hi = np.array([mine["hi"].get(m, np.nan) for m in metrics], dtype=float)
         at = x + (i - (len(systems) - 1) / 2) * width
-        ax.bar(at, np.nan_to_num(value), width, label=_name(system))
+        bars = ax.bar(at, np.nan_to_num(value), width, label=_name(system))
+        for where, metric, v in zip(at, metrics, value, strict=True):
+            if math.isnan(v):  # no bar: say why, so that it cannot read as 0
+                why = "not executed" if metric in EXEC_METRICS else "no value"
+                ax.text(where, 1.5, why, rotation=90, ha="center", va="bottom", fontsize=6,
+                        color=bars.patches[0].get_facecolor())  # fmt: skip
         has = np.isfinite(lo) & np.isfinite(hi) & np.isfinite(value)
         if has.any():  # no whisker where a group has a single task (no interval)
             err = np.vstack([value[has] - lo[has], hi[has] - value[has]])
@@ -135,17 +145,24 @@ def loc_by_direction(report: Report) -> pd.DataFrame:
     return pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
 
 
+def sector_labels(frame: pd.DataFrame, sectors: list[str]) -> list[str]:
+    """``front\n4 ep., 2 tasks``: each sector with its distinct episodes (task, seed,
+    instruction, over all systems) and tasks (the units the intervals resample)."""
+    episodes = frame.drop_duplicates(["task_id", "seed", "instruction"])
+    counts = episodes["first_move"].value_counts()
+    tasks = episodes.groupby("first_move")["task_id"].nunique()
+    return [f"{s}\n{counts.get(s, 0)} ep., {tasks.get(s, 0)} tasks" for s in sectors]
+
+
 def plot_loc_by_direction(report: Report, path: Path) -> Path:
     """Grouped bars of S_loc per first-move sector with task-clustered intervals."""
     plt = _pyplot()
     by = list(report.options.by)
     table = loc_by_direction(report)
     sectors = [s for s in SECTORS if not table.empty and s in set(table["metric"])]
-    episodes = report.frame.drop_duplicates(["task_id", "seed", "instruction"])
-    counts = episodes["first_move"].value_counts()  # episodes per sector (each system has them)
     fig, ax = plt.subplots(figsize=(9, 4.2))
     if sectors:
-        labels = [f"{s}\n(n={counts.get(s, 0)})" for s in sectors]
+        labels = sector_labels(report.frame, sectors)
         _bars(ax, table, by, labels, sectors)
     ax.set_ylabel("S_loc")
     ax.set_title("S_loc by the GT's first horizontal move (UAV body frame)")

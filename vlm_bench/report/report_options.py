@@ -31,6 +31,12 @@ class ReportOptions(Frozen):
     format: ReportFormat = Field(default="terminal", description="Output format of the tables.")
     out: Path | None = Field(default=None, description="Write the tables here (else stdout).")
     standalone: bool = Field(default=False, description="LaTeX: a whole document, not a float.")
+    fit_width: bool = Field(
+        default=False, description="LaTeX: scale each table to the text width (\\resizebox)."
+    )
+    labels: dict[str, str] = Field(
+        default_factory=dict, description="LaTeX: display name per run (or row value)."
+    )
     sort: SortChoice = Field(
         default="given", description="Row order: as given, or by overall Tot (the paper's)."
     )
@@ -66,6 +72,8 @@ class ReportOptions(Frozen):
             raise ValueError("--format parquet writes a binary file: give --out FILE")
         if self.standalone and self.format != "latex":
             raise ValueError("--standalone applies to --format latex only")
+        if self.fit_width and self.format != "latex":
+            raise ValueError("--fit-width applies to --format latex only")
         if self.episodes is not None and self.episodes.suffix not in (".csv", ".parquet"):
             raise ValueError("--episodes must end in .csv or .parquet")
         return self

@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from dataclasses import dataclass
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, Grouping
-from vlm_bench.report.summary import By, by_columns, headline, system_order, system_rows
+from vlm_bench.report.marks import PARTIAL
+from vlm_bench.report.summary import (
+    EXEC_VALUES,
+    By,
+    by_columns,
+    headline,
+    system_order,
+    system_rows,
+)
 from vlm_bench.report.tables import HEADERS, system_headers
 from vlm_bench.report.text import p_value, with_ci
 
@@ -29,9 +38,16 @@ def _label(keys: list[str], row: dict[str, object]) -> dict[str, str]:
 
 
 def ci_section(
-    cis: pd.DataFrame, by: By, grouping: Grouping, n_boot: int, seed: int, level: float
+    cis: pd.DataFrame,
+    by: By,
+    grouping: Grouping,
+    n_boot: int,
+    seed: int,
+    level: float,
+    partial: Collection[tuple[object, ...]] = (),
 ) -> Section:
-    """Overall values with their intervals, one row per system (``both``, or its instruction)."""
+    """Overall values with their intervals, one row per system (``both``, or its instruction);
+    ``partial`` rows (``by`` values + instruction, missing a group) are marked."""
     keys = by_columns(by)
     overall = headline(cis[cis[grouping.column] == OVERALL], keys)
     metrics = list(dict.fromkeys(overall["metric"]))
@@ -44,9 +60,12 @@ def ci_section(
             "Instr.": first["instruction"],
         }
         row: dict[str, object] = dict(label)
+        mark = PARTIAL if (*system, first["instruction"]) in partial else ""
         for m in metrics:
             c = cells.loc[m] if m in cells.index else None
-            row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"])
+            row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"]) + mark
+            if c is not None and m in EXEC_VALUES and int(c["n"]) < int(first["n"]):
+                row[HEADERS[m]] = f"{row[HEADERS[m]]} ({int(c['n'])}/{int(first['n'])})"
             if c is not None:
                 narrow.append({**label, "metric": HEADERS[m], "value [CI]": row[HEADERS[m]]})
         row["n"], row["tasks"] = int(first["n"]), int(first["n_tasks"])
@@ -57,6 +76,8 @@ def ci_section(
         f"{'suite' if grouping.name == 'suites' else 'paper column'}, {n_boot} replicates, "
         f"seed {seed}); Overall = mean of the groups; no interval where a group has one task."
     )
+    if partial:
+        caption += f" {PARTIAL} partial: the row lacks groups of the table (see the warning above)."
     numeric = tuple(c for c in frame.columns if c not in ("Instr.", *system_headers(keys)))
     return Section(
         "Overall with confidence intervals",
@@ -123,8 +144,8 @@ def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
             "95 % CI": "–" if r["lo"] != r["lo"] else f"[{r['lo']:.1f}, {r['hi']:.1f}]",
             "n": r["n"],
             "tasks": r["n_tasks"],
-            "A>B/A<B/=": f"{r['n_better']}/{r['n_worse']}/{r['n_tied']}",
-            "sign p": p_value(r["p_sign"]),
+            "tasks A>B/A<B/=": f"{r['n_better']}/{r['n_worse']}/{r['n_tied']}",
+            "sign p (tasks)": f"{p_value(r['p_sign'])} ({r['n_tasks']})",
         }
         for r in pairs.to_dict("records")
         if r["n"] > 0
@@ -132,5 +153,5 @@ def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
     frame = pd.DataFrame(rows)
     if not frame.empty and frame["B"].nunique() == 1:
         frame = frame.drop(columns="B")
-    numeric = ("A − B", "95 % CI", "n", "tasks", "A>B/A<B/=", "sign p")
+    numeric = ("A − B", "95 % CI", "n", "tasks", "tasks A>B/A<B/=", "sign p (tasks)")
     return Section(title, caption, frame, numeric)

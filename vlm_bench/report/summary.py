@@ -13,11 +13,19 @@ Aggregation, documented once here:
 * Records whose backend failed (``status == "error"``) are left out of the means and counted in
   ``n_error``; a resume retries them. A group cell with no answered episode is NaN, and so are
   the overall and ``both`` values built from it (they would otherwise cover fewer groups).
+* An overall is comparable only over the same groups: a row with no episode at all in some group
+  of the table (a run of one suite beside runs of all four) keeps its mean over the groups it
+  has, but ``missing_groups`` names the others; the tables mark that Overall *partial* (never
+  bold, never best) and warn. A ``both`` cell needs every instruction of its system.
 * Runs that execute plans add the execution columns (:data:`EXEC_VALUES`): ``exec_success`` is
   the share of answered episodes whose execution succeeded, in percent; ``S_task``, ``S_pos``,
   ``S_arm``, ``S_safe`` and ``VLA_total`` are means over the answered episodes, an output with no
   plan to execute counting 0 in each. They aggregate like the planning metrics. Runs that do not
   execute plans have none of these columns (NaN when compared with runs that do).
+* ``n_executed`` (with the execution columns) counts a cell's answered episodes that have
+  execution values. Where it is below ``n`` (a ``--by`` row pooling executing and planning-only
+  runs) the execution values cover only those episodes, and the tables print the count beside
+  them ("100.0 (20/60)"); where it is 0 they print "–".
 
 A *system* (a table row, with the instruction) is one value of the ``by`` column(s): ``model`` by
 default, ``run`` to compare ablations of one model, or several columns (``views, resolution``).
@@ -43,7 +51,10 @@ EXEC_VALUES = EXEC_METRICS
 """Value columns added when the records include executing runs (see the module docstring)."""
 TABLE_EXEC_VALUES = ("exec_success", "S_task")
 """Execution columns of the printed tables (the VLA metrics are in ``summary.csv`` only)."""
-SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error")
+MISSING = "missing_groups"
+"""Column of :func:`summary_long`: on overall rows, the table's groups the row has no episode
+in, comma-separated ("" when it covers them all: a complete Overall); "" on other rows."""
+SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error", MISSING)
 """Columns of :func:`summary_long` (and ``summary.csv``) without execution; with execution,
 :data:`EXEC_VALUES` follow ``Loc_over_blind``."""
 PERCENT = ("Succ", "exec_success")
@@ -96,10 +107,18 @@ def _cells(frame: pd.DataFrame, keys: list[str], values: tuple[str, ...]) -> pd.
     grouped = ok.groupby(keys, sort=False, dropna=False)
     cells = grouped[list(values)].mean()
     cells["n"] = grouped.size()
+    counts = ["n", "n_error"]
+    if "exec_success" in values:
+        cells["n_executed"] = grouped["exec_success"].count()
+        counts.append("n_executed")
     errors = frame[frame["status"] != "ok"].groupby(keys, sort=False, dropna=False).size()
     cells = cells.join(errors.rename("n_error"), how="outer")
-    cells[["n", "n_error"]] = cells[["n", "n_error"]].fillna(0).astype(int)
+    cells[counts] = cells[counts].fillna(0).astype(int)
     return cells.reset_index()
+
+
+def _counts(values: tuple[str, ...]) -> list[str]:
+    return ["n", "n_error", "n_executed"] if "exec_success" in values else ["n", "n_error"]
 
 
 def _strict_mean(col: pd.Series) -> float:
@@ -109,11 +128,13 @@ def _strict_mean(col: pd.Series) -> float:
 
 
 def _overall(
-    cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...]
+    cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...], table: list[str]
 ) -> pd.DataFrame:
     grouped = cells.groupby([*by, "instruction"], sort=False, dropna=False)
     out = grouped[list(values)].agg(_strict_mean)
-    out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    out[_counts(values)] = grouped[_counts(values)].sum()
+    covered = grouped[group].agg(set)
+    out[MISSING] = [",".join(g for g in table if g not in have) for have in covered]
     out = out.reset_index()
     out[group] = OVERALL
     return out
@@ -121,9 +142,13 @@ def _overall(
 
 def _both(cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...]) -> pd.DataFrame:
     variants = cells.groupby(by, dropna=False)["instruction"].transform("nunique")
-    grouped = cells[variants > 1].groupby([*by, group], sort=False, dropna=False)
+    present = cells.groupby([*by, group], dropna=False)["instruction"].transform("nunique")
+    # A group some instruction never ran has no ``both`` cell (it would be one instruction's).
+    grouped = cells[(variants > 1) & (present == variants)].groupby(
+        [*by, group], sort=False, dropna=False
+    )
     out = grouped[list(values)].agg(_strict_mean)
-    out[["n", "n_error"]] = grouped[["n", "n_error"]].sum()
+    out[_counts(values)] = grouped[_counts(values)].sum()
     out = out.reset_index()
     out["instruction"] = BOTH
     return out
@@ -149,24 +174,60 @@ def summary_long(
     Returns:
         Columns ``by``, ``instruction``, the grouping's column (``suite``), the values
         (:data:`VALUES`, with :data:`EXEC_VALUES` after ``Loc_over_blind`` when the records
-        include executing runs), ``n`` and ``n_error``; rows ordered by system (first
+        include executing runs), ``n``, ``n_error`` (``n_executed`` with execution) and
+        ``missing_groups``; rows ordered by system (first
         appearance), instruction (explicit, implicit, both), group (table order, overall last).
     """
     keys, group = by_columns(by), grouping.column
     if frame.empty:
-        return pd.DataFrame(columns=[*keys, "instruction", group, *VALUES, "n", "n_error"])
+        return pd.DataFrame(columns=[*keys, "instruction", group, *VALUES, "n", "n_error", MISSING])
     frame = grouping.assign(frame)
     values = summary_values(frame)
     cells = _cells(frame, [*keys, "instruction", group], values)
     both = _both(cells, keys, group, values)
     rows = pd.concat([cells, both], ignore_index=True) if not both.empty else cells
-    table = pd.concat([rows, _overall(rows, keys, group, values)], ignore_index=True)
+    present = [g for g in grouping.order if g in set(frame[group])]
+    overall = _overall(rows, keys, group, values, present)
+    table = pd.concat([rows, overall], ignore_index=True)
+    table[MISSING] = table[MISSING].fillna("")
     systems = system_order(frame, keys)
     table["_s"] = [systems.index(s) for s in table[keys].itertuples(index=False, name=None)]
     table["_i"] = table["instruction"].map(INSTRUCTION_ORDER.index)
     table["_g"] = table[group].map(grouping.position)
     table = table.sort_values(["_s", "_i", "_g"], kind="stable")
-    return table[[*keys, "instruction", group, *values, "n", "n_error"]].reset_index(drop=True)
+    columns = [*keys, "instruction", group, *values, *_counts(values), MISSING]
+    return table[columns].reset_index(drop=True)
+
+
+def exec_coverage(
+    long: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES
+) -> dict[tuple[object, ...], tuple[int, int]]:
+    """(``by`` values, instruction, group) → (executed, answered) episodes, for the cells whose
+    execution values cover only some of their episodes (see the module docstring)."""
+    if "n_executed" not in long.columns:
+        return {}
+    keys = by_columns(by)
+    rows = long[(long["n_executed"] > 0) & (long["n_executed"] < long["n"])]
+    return {
+        (*(r[k] for k in keys), r["instruction"], r[grouping.column]): (
+            int(r["n_executed"]),
+            int(r["n"]),
+        )
+        for r in rows.to_dict("records")
+    }
+
+
+def partial_overalls(long: pd.DataFrame, by: By = "model") -> dict[tuple[object, ...], list[str]]:
+    """Rows (``by`` values + instruction) whose Overall misses groups of the table, with the
+    missing group values (see the module docstring)."""
+    keys = by_columns(by)
+    if MISSING not in long.columns:
+        return {}
+    rows = long[long[MISSING].fillna("") != ""]
+    return {
+        (*(r[k] for k in keys), r["instruction"]): str(r[MISSING]).split(",")
+        for r in rows.to_dict("records")
+    }
 
 
 def summary_wide(long: pd.DataFrame, by: By = "model", grouping: Grouping = SUITES) -> pd.DataFrame:
@@ -207,9 +268,11 @@ def sort_systems(
 ) -> pd.DataFrame:
     """``long`` with its systems ordered by their overall ``metric`` (the paper sorts by overall
     Tot, ascending); a system's overall is its ``both`` row, or its first instruction's. Systems
-    without a value go last; ties keep their order."""
+    without a complete overall (a missing group) go last; ties keep their order."""
     keys = by_columns(by)
     overall = headline(long[long[grouping.column] == OVERALL], keys)
+    if MISSING in overall.columns:
+        overall = overall[overall[MISSING].fillna("") == ""]
     score = {tuple(r[k] for k in keys): float(r[metric]) for r in overall.to_dict("records")}
     systems = system_order(long, keys)
     sign = 1.0 if ascending else -1.0

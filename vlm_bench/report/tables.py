@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -12,10 +11,13 @@ from rich.table import Table
 
 from vlm_bench.report.dataframe import load_records_frame
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
+from vlm_bench.report.marks import PARTIAL, cell_text, partial_warnings, row_texts
 from vlm_bench.report.summary import (
     VALUES,
     By,
     by_columns,
+    exec_coverage,
+    partial_overalls,
     summary_long,
     summary_wide,
     table_values,
@@ -45,13 +47,10 @@ EXEC_LEGEND = (
     "episodes, an output with no plan counting 0; summary.csv adds S_pos, S_arm, "
     "S_safe and VLA_total."
 )
-
-
-def fmt(value: object) -> str:
-    """A table number with one decimal; – for a missing value."""
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "–"
-    return f"{float(value):.1f}"  # type: ignore[arg-type]
+COVERAGE_LEGEND = (
+    "Exec and Task with (e/n) cover only the e of the cell's n answered episodes that were "
+    "executed (the others come from runs that do not execute plans)."
+)
 
 
 def _groups(wide: pd.DataFrame) -> list[str]:
@@ -88,28 +87,42 @@ def summary_markdown(long: pd.DataFrame, by: By = "model", grouping: Grouping = 
         "| " + " | ".join(head) + " |",
         "|" + "|".join([":--"] * labels + ["--:"] * (len(head) - labels)) + "|",
     ]
-    for key, row in wide.iterrows():
-        cells = [*(str(k) for k in key), *(fmt(v) for v in row.tolist())]
+    partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
+    for key in wide.index:
+        cells = [*(str(k) for k in key), *row_texts(wide, key, partial, coverage)]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     overall = long[long[grouping.column] == OVERALL]
     n = int(overall[overall["instruction"] != "both"]["n"].sum())
     legend = LEGEND.format(groups="suite" if grouping.name == "suites" else "paper's")
     legend = f"{legend} {EXEC_LEGEND}" if "exec_success" in metrics else legend
+    legend = f"{legend} {COVERAGE_LEGEND}" if exec_coverage(long, by, grouping) else legend
     names = group_legend(grouping, groups)
-    return "\n".join(lines) + f"\n\n{names}. {legend} Episodes scored: {n}.\n"
+    warnings = "".join(f"\n**Warning.** {w}\n" for w in partial_warnings(long, by, grouping))
+    return "\n".join(lines) + f"\n\n{names}. {legend} Episodes scored: {n}.\n" + warnings
 
 
-def _caption(metrics: Sequence[str]) -> str:
+def _caption(metrics: Sequence[str], covered: bool = False) -> str:
     caption = "Succ in %; Overall = mean of the column groups"
     if "exec_success" in metrics:
         caption += "; Exec = execution success in %, Task = S_task"
+    if covered:
+        caption += "; (e/n) = executed e of n episodes"
     return caption
 
 
-def _rich_wide(wide: pd.DataFrame, by: By, grouping: Grouping, title: str | None) -> Table:
+def _warned(caption: str, long: pd.DataFrame, by: By, grouping: Grouping) -> str:
+    warnings = partial_warnings(long, by, grouping)
+    return caption + "".join(f"\n[yellow]{w}[/]" for w in warnings)
+
+
+def _rich_wide(
+    wide: pd.DataFrame, long: pd.DataFrame, by: By, grouping: Grouping, title: str | None
+) -> Table:
     metrics = _metrics(wide)
     groups = _groups(wide)
-    caption = f"{group_legend(grouping, groups)}; {_caption(metrics)}"
+    covered = bool(exec_coverage(long, by, grouping))
+    caption = f"{group_legend(grouping, groups)}; {_caption(metrics, covered)}"
+    caption = _warned(caption, long, by, grouping)
     table = Table(title=title, caption=caption)
     for name in system_headers(by):
         table.add_column(name, no_wrap=True)
@@ -120,8 +133,9 @@ def _rich_wide(wide: pd.DataFrame, by: By, grouping: Grouping, title: str | None
             table.add_column(
                 f"[bold]{label}[/]" if metric == "S_total" else label, justify="right", no_wrap=True
             )
-    for key, row in wide.iterrows():
-        table.add_row(*(str(k) for k in key), *(fmt(v) for v in row.tolist()))
+    partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
+    for key in wide.index:
+        table.add_row(*(str(k) for k in key), *row_texts(wide, key, partial, coverage))
     return table
 
 
@@ -130,10 +144,12 @@ def _rich_long(
 ) -> Table:
     keys = by_columns(by)
     metrics = table_values(long)
-    caption = _caption(metrics)
+    caption = _caption(metrics, bool(exec_coverage(long, by, grouping)))
     if short:
         present = [g for g in grouping.order if g in set(long[grouping.column])]
         caption = f"{group_legend(grouping, present)}; {caption}"
+    caption = _warned(caption, long, by, grouping)
+    partial, coverage = partial_overalls(long, by), exec_coverage(long, by, grouping)
     # Eight metric columns (with execution) fit 80 characters only with the box's one-space
     # column separators and no padding.
     padding = (0, 0) if len(metrics) > len(VALUES) else (0, 1)
@@ -142,7 +158,7 @@ def _rich_long(
     )
     for name in system_headers(by):
         table.add_column(name, overflow="fold")
-    table.add_column("Instr.")
+    table.add_column("Instr.", no_wrap=True, min_width=8)  # "explicit" in full
     table.add_column("Suite" if grouping.name == "suites" else "Column", no_wrap=True)
     for metric in metrics:
         bold = metric == "S_total"
@@ -158,15 +174,18 @@ def _rich_long(
         value = row[grouping.column]
         overall = value == OVERALL
         name = grouping.short[value] if short or overall else grouping.titles[value]
+        bold = overall and group not in partial
+        if overall and not bold:
+            name += PARTIAL
         first = group != previous
         cells = [
             *(str(row[k]) if first else "" for k in keys),
             str(row["instruction"]) if first else "",
             name,
-            *(fmt(row[m]) for m in metrics),
+            *(cell_text(row[m], m, (*group, value), coverage) for m in metrics),
             str(row["n"]),
         ]
-        table.add_row(*cells, style="bold" if overall else None, end_section=overall)
+        table.add_row(*cells, style="bold" if bold else None, end_section=overall)
         previous = group
     return table
 
@@ -189,7 +208,7 @@ def summary_rich(
     keys = by_columns(by)
     name = sum(max(len(str(s)) for s in long[k]) + 3 for k in keys)
     if width is None or 21 + name + 8 * len(wide.columns) <= width:
-        return _rich_wide(wide, by, grouping, title)
+        return _rich_wide(wide, long, by, grouping, title)
     short = name + 55 + 7 * len(table_values(long)) > width
     return _rich_long(long, by, grouping, title, short=short)
 

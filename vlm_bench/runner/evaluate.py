@@ -5,10 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from vlm_bench.catalog.model_cards import answer_format_of
 from vlm_bench.parsing import parse_plan
 from vlm_bench.scoring import score_plan
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.parse import ParseResult
+from vlm_bench.types.parse import AnswerFormat, ParseResult
 from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.scores import PlanScores, ScoringConfig
@@ -25,14 +26,17 @@ class Evaluation:
     error_tags: tuple[str, ...]
 
 
-def evaluate_output(text: str, episode: Episode, scoring: ScoringConfig) -> Evaluation:
-    """Parse ``text`` against the episode's object ids and score it against its GT plan.
+def evaluate_output(
+    text: str, episode: Episode, scoring: ScoringConfig, answer_format: AnswerFormat | None = None
+) -> Evaluation:
+    """Parse ``text`` against the episode's object ids (and the model's documented answer
+    format, if any) and score it against its GT plan.
 
     Returns:
         The parse result, the valid predicted steps in the paper's JSON format, the scores and
         the error tags: parser codes, then planning error types (duplicates removed).
     """
-    parsed = parse_plan(text, episode.object_ids())
+    parsed = parse_plan(text, episode.object_ids(), answer_format)
     scores = score_plan(parsed, episode.gt_plan, scoring)
     tags = dict.fromkeys(str(code) for code in parsed.all_errors())
     tags.update(dict.fromkeys(str(err) for err in scores.error_types))
@@ -77,7 +81,7 @@ def scored_record(
     cached: bool = False,
 ) -> EpisodeRecord:
     """The ``ok`` record of an episode the model answered."""
-    ev = evaluate_output(response.text, episode, scoring)
+    ev = evaluate_output(response.text, episode, scoring, answer_format_of(info.model))
     return EpisodeRecord(
         **info.record_fields(episode),
         raw_output=response.text,

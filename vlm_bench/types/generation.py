@@ -130,8 +130,9 @@ class GenerationResult(Frozen):
     latency_s: float = Field(
         default=0.0,
         ge=0.0,
-        description="This request's share of the wall time of the call that answered it (the "
-        "call's time divided by its requests): summed over a run it gives the generation time.",
+        description="This request's time: its own round trip where requests run concurrently "
+        "(openai), else its share of the batched call that answered it (the call's time divided "
+        "by its requests, so that summed over a run it gives the generation time).",
     )
     batch_latency_s: float | None = Field(
         default=None, ge=0.0, description="Wall time of the whole call (batch) that answered it."

@@ -99,6 +99,16 @@ class ParsedStep(Frozen):
         return None
 
 
+class AnswerFormat(Frozen):
+    """A model's documented output format: a reasoning block, then the answer in a tag
+    (GLM-4.1V-Thinking: ``<think>…</think><answer>…</answer>``). Output in exactly this form is
+    not repaired: the answer is parsed as if it were the whole output (see
+    :mod:`vlm_bench.parsing.answer_tag`)."""
+
+    reasoning: str = Field(pattern=r"^[a-z_]+$", description="Reasoning tag name (think).")
+    answer: str = Field(pattern=r"^[a-z_]+$", description="Answer tag name (answer).")
+
+
 class ParseResult(Frozen):
     """What the parser made of one model output. Never raised; always recorded."""
 
@@ -106,6 +116,10 @@ class ParseResult(Frozen):
     steps: tuple[ParsedStep, ...] = Field(default=(), description="All steps, in array order.")
     errors: tuple[ParseCode, ...] = Field(default=(), description="Plan-level codes.")
     repairs: tuple[Repair, ...] = Field(default=(), description="Repairs applied, in order.")
+    reasoning: str | None = Field(
+        default=None,
+        description="The reasoning block of output in the model's documented answer format.",
+    )
 
     @property
     def n_steps(self) -> int:
