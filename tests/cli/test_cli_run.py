@@ -228,3 +228,27 @@ def test_planning_help_and_api_import_stay_light() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "", f"imported: {result.stdout}"
+
+
+def test_a_run_the_backend_never_answers_exits_3_and_says_how_to_retry(
+    cli: Cli, tmp_path: Path
+) -> None:
+    script = tmp_path / "answers.jsonl"
+    script.write_text("")  # the mock answers no id: every request fails in the backend
+    out = tmp_path / "run"
+    args = cli.run_args(out, "mock", ("standard_pick_place",), "0-1", "--resolution", "32")
+    failed = cli.run(*args, "--no-execute", "-M", f"file={script}")
+    assert failed.returncode == 3, failed.stderr
+    said = " ".join(failed.stdout.split())
+    assert "4 of 4 episode(s) have no answer" in said and "re-run the same command" in said
+    answered = '{"id": "%s", "text": "[{\\"tasktype\\": \\"UAV\\", \\"direction\\": \\"up\\"}]"}'
+    keys = [f"standard_pick_place/{s}/{v}" for s in (0, 1) for v in ("explicit", "implicit")]
+    script.write_text("\n".join(answered % k for k in keys) + "\n")
+    retried = cli.run(*args, "--no-execute", "-M", f"file={script}")
+    assert retried.returncode == 0, retried.stdout + retried.stderr
+
+
+def test_help_lists_the_exit_codes(cli: Cli) -> None:
+    for command in ((), ("run",)):
+        text = " ".join(cli.invoke(*command, "--help").split())
+        assert "Exit codes: 0 done" in text and "3 run finished" in text and "143" in text

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 from rich.console import Console
 
+from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
 from vlm_bench.cli.options import finite, parse_seed, parse_seeds, parse_suite, parse_variant
 from vlm_bench.errors import ConfigError, UnknownNameError
 
@@ -86,12 +87,15 @@ def _print_summary(result: RunResult) -> None:
     if stats.executed:
         line += f", {stats.executed} plan(s) executed"
     console.print(line + ")", highlight=False, soft_wrap=True)
-    errors = sum(1 for r in result.records if not r.ok)
-    if errors:
+    unanswered = [r for r in result.records if not r.ok]
+    if unanswered:
+        first = unanswered[0]
         console.print(
-            f"[yellow]{errors} episode(s) failed in the backend; re-run the same "
-            "command to retry them[/]",
+            f"[yellow]{len(unanswered)} of {len(result.records)} episode(s) have no answer "
+            f"(the backend failed after its retries, e.g. {first.key}: {first.backend_error}); "
+            "re-run the same command to retry them[/]",
             soft_wrap=True,
+            highlight=False,
         )
     crashed = [
         (r.key, r.execution.failure_reason)
@@ -219,8 +223,10 @@ def run(
             "command to resume",
             file=sys.stderr,
         )
-        raise typer.Exit(130) from None
+        raise typer.Exit(ExitCode.INTERRUPTED) from None
     _print_summary(result)
+    if any(not r.ok for r in result.records):
+        raise typer.Exit(ExitCode.UNANSWERED)
 
 
 def rescore(
@@ -290,6 +296,6 @@ def score(
 
 def register(app: typer.Typer) -> None:
     """Add the planning commands to ``app``."""
-    app.command()(run)
+    app.command(epilog=EXIT_CODES_HELP)(run)
     app.command()(rescore)
     app.command()(score)
