@@ -9,7 +9,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.backends import Backend, resolve_backend
+from vlm_bench.backends import Backend, operational_args, resolve_backend
 from vlm_bench.backends.preflight import BackendCheck, check_backend, loads_model_in_process
 from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
@@ -48,11 +48,14 @@ class RunOutcome:
 def make_manifest(config: RunConfig, backend_name: str) -> Callable[[str], RunManifest]:
     """A builder of the run's manifest for a run id (provenance is gathered when called)."""
 
+    operational = operational_args(config.model)
+
     def build(run_id: str) -> RunManifest:
         return RunManifest(
             run_id=run_id,
             config=config.redacted(),
-            config_hash=config.config_hash(),
+            config_hash=config.config_hash(operational),
+            operational_args=tuple(sorted(operational)),
             backend=backend_name,
             data=data_hashes(),
             packages=package_versions(),
