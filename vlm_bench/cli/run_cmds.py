@@ -217,13 +217,17 @@ def run(
             progress=progress,
             replay=replay,
         )
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        from vlm_bench.runner.interrupt import Terminated
+
+        terminated = isinstance(exc, Terminated)
         print(
-            f"interrupted: finished episodes are saved in {run_dir}; re-run the same "
-            "command to resume",
+            f"{'terminated' if terminated else 'interrupted'}: finished episodes are saved in "
+            f"{run_dir}; re-run the same command to resume",
             file=sys.stderr,
         )
-        raise typer.Exit(ExitCode.INTERRUPTED) from None
+        code = ExitCode.TERMINATED if terminated else ExitCode.INTERRUPTED
+        raise typer.Exit(code) from None
     _print_summary(result)
     if any(not r.ok for r in result.records):
         raise typer.Exit(ExitCode.UNANSWERED)

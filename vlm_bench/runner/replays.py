@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from vlm_bench.runner.plan_executor import PlanExecutor, crash_summary, record_plan
+from vlm_bench.runner.worker_lifetime import die_with_parent
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
@@ -93,7 +94,8 @@ def replay(job: ReplayJob) -> Replayed:
     return executor.run(episode, list(job.steps))
 
 
-def _init_worker() -> None:
+def _init_worker(parent: int) -> None:
+    die_with_parent(parent)
     os.environ.setdefault("MUJOCO_GL", "egl")
 
 
@@ -119,7 +121,8 @@ class InlinePool:
 
 class ProcessPool:
     """Replays in ``workers`` worker processes of this machine (started with ``spawn``: the
-    parent may hold a GPU context or an EGL renderer that a fork must not inherit)."""
+    parent may hold a GPU context or an EGL renderer that a fork must not inherit). The
+    workers exit when this process does (:func:`~.worker_lifetime.die_with_parent`)."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
@@ -130,6 +133,7 @@ class ProcessPool:
             max_workers=self.workers,
             mp_context=multiprocessing.get_context("spawn"),
             initializer=_init_worker,
+            initargs=(os.getpid(),),
         )
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
@@ -239,11 +243,11 @@ class Replays:
         self._changed()
         return None
 
-    def collect(self, block: bool = False) -> list[EpisodeRecord]:
+    def collect(self, block: bool = False, timeout: float | None = None) -> list[EpisodeRecord]:
         """Records whose replays finished (with ``block``, waits for at least one while any
-        is in flight)."""
+        is in flight, or ``timeout`` seconds)."""
         if block and self._pending and not any(p.future.done() for p in self._pending):
-            wait({p.future for p in self._pending}, return_when=FIRST_COMPLETED)
+            wait({p.future for p in self._pending}, timeout, return_when=FIRST_COMPLETED)
         broken = [p for p in self._pending if _broken(p.future)]
         while broken:
             self._resend(broken)
