@@ -137,6 +137,26 @@ def test_rescore_command_rewrites_records_and_summary(cli: Cli, tmp_path: Path) 
     assert (pd.read_csv(out / "summary.csv")[METRICS] == 100.0).all().all()
 
 
+def test_a_torn_last_record_line_is_reported_then_healed_by_rescore(
+    cli: Cli, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    cli.invoke(*_run_args(cli, out, "oracle", FEW[:1], seeds="0"))
+    records = out / "records.jsonl"
+    lines = records.read_bytes().splitlines(keepends=True)
+    records.write_bytes(b"".join(lines[:-1]) + lines[-1][:40])  # a crash mid-write
+    reported = cli.run("report", str(out), "--no-stats")
+    assert reported.returncode == 0, reported.stderr
+    assert f"{records} ends in a torn line (40 bytes" in reported.stderr
+    rescored = cli.run("rescore", str(out), "--no-progress")
+    assert rescored.returncode == 0, rescored.stderr
+    said = " ".join(rescored.stdout.split())
+    assert "records.jsonl ended in a torn line (40 bytes" in said and "re-run the run" in said
+    assert records.read_bytes() == b"".join(lines[:-1])  # healed: whole lines only
+    resumed = cli.run(*_run_args(cli, out, "oracle", FEW[:1], seeds="0"))
+    assert resumed.returncode == 0 and len(latest_records(records)) == 2
+
+
 def test_score_command_json(cli: Cli, tmp_path: Path) -> None:
     episode = make_episode("standard_pick_place", 1)
     gt = plan_to_json(episode.gt_plan)

@@ -276,3 +276,14 @@ def test_a_manifest_from_before_loc_alignment_loads_as_order_and_keeps_its_hash(
     assert old.config.scoring.loc_alignment == "order"
     assert "loc_alignment" not in old.config.hashed_fields()["scoring"]
     assert old.config.config_hash() != new.config_hash()
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_full_disk_names_the_file() -> None:
+    writer = JsonlWriter(Path("/dev/full"))  # every write fails with ENOSPC
+    try:
+        with pytest.raises(OSError, match="No space left") as info:
+            writer.append({"a": 1})
+        assert info.value.filename == "/dev/full"
+    finally:
+        writer.close()

@@ -18,6 +18,7 @@ their neutral values, which servers such as vLLM read.
 
 from __future__ import annotations
 
+import json
 import os
 import time
 from collections.abc import Sequence
@@ -96,6 +97,11 @@ class OpenAIArgs(BackendArgs):
         description="How long the load-time check waits for an answer (s).",
         json_schema_extra=OPERATIONAL,
     )
+
+
+def not_json(body: str) -> str:
+    """The error of a 200 answer whose body is not a JSON completion."""
+    return f"the server sent a body that is not JSON (first 80 bytes: {body[:80]!r})"
 
 
 def _describe(exc: BaseException) -> str:
@@ -194,7 +200,11 @@ class OpenAIBackend(Backend):
                 exc, self._openai.APITimeoutError
             )
             return GenerationResult(id=request.id, error=_describe(exc)), unreachable
-        if not response.choices:
+        except json.JSONDecodeError as exc:  # a JSON content type over a body that is not
+            return GenerationResult(id=request.id, error=not_json(exc.doc)), False
+        if isinstance(response, str):  # the client hands back a body it could not decode
+            return GenerationResult(id=request.id, error=not_json(response)), False
+        if not response.choices or response.choices[0].message is None:
             return GenerationResult(id=request.id, error="server returned no choices"), False
         choice = response.choices[0]
         usage = response.usage

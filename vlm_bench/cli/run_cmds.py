@@ -255,6 +255,14 @@ def rescore(
     result = api_rescore(path, progress=progress, replay=replay)
     _print_summary(result)
     console.print(f"{result.stats.changed} record(s) changed", highlight=False)
+    if result.stats.torn_bytes:
+        console.print(
+            f"[yellow]records.jsonl ended in a torn line ({result.stats.torn_bytes} bytes, a "
+            "crash mid-write), now cut off: its episode has no record; re-run the run command "
+            "to score it again from the response cache[/]",
+            soft_wrap=True,
+            highlight=False,
+        )
 
 
 def _score_text(data: dict[str, Any]) -> None:

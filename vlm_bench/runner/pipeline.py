@@ -63,6 +63,8 @@ class PipelineStats:
     """The first few executor exception messages."""
     changed: int = 0
     """Records whose parse, plan, scores, tags or execution changed (rescore)."""
+    torn_bytes: int = 0
+    """Bytes of a torn last record line cut off when the folder was opened (rescore)."""
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,8 @@ class RescoreOutcome:
     """Records whose parse, plan, scores, tags or execution changed."""
     executed: int = 0
     """Plans executed again (runs that execute plans)."""
+    torn_bytes: int = 0
+    """Bytes of a torn last record line (a crash mid-write) cut off the records file."""
 
 
 def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
@@ -61,7 +63,8 @@ def rescore_run(
     again with the run's ``uav_noise``, in the pool ``replay`` asks for (default: one worker
     process per core; identical plans on one episode run once). ``records.jsonl`` is rewritten
     atomically, one line per episode in the order it had, keeping each record's timing and
-    token counts.
+    token counts. A torn last line (a crash mid-write) is cut off and counted in
+    :attr:`RescoreOutcome.torn_bytes`: its episode has no record until the run resumes.
 
     Args:
         run_dir: The run folder.
@@ -110,7 +113,14 @@ def rescore_run(
         changed = sum(new.without_timing() != old.without_timing() for new, old in pairs)
         store.rewrite_records(out)
         executed = replays.stats.executed if replays is not None else 0
-        return RescoreOutcome(store.paths.root, store.manifest, tuple(out), changed, executed)
+        return RescoreOutcome(
+            store.paths.root,
+            store.manifest,
+            tuple(out),
+            changed,
+            executed,
+            store.torn_record_bytes,
+        )
 
 
 def _rescored(
