@@ -260,7 +260,7 @@ def test_a_run_the_backend_never_answers_exits_3_and_says_how_to_retry(
     failed = cli.run(*args, "--no-execute", "-M", f"file={script}")
     assert failed.returncode == 3, failed.stderr
     said = " ".join(failed.stdout.split())
-    assert "4 of 4 episode(s) have no answer" in said and "re-run the same command" in said
+    assert "4 of 4 episode(s) have no result" in said and "re-run the same command" in said
     answered = '{"id": "%s", "text": "[{\\"tasktype\\": \\"UAV\\", \\"direction\\": \\"up\\"}]"}'
     keys = [f"standard_pick_place/{s}/{v}" for s in (0, 1) for v in ("explicit", "implicit")]
     script.write_text("\n".join(answered % k for k in keys) + "\n")
@@ -272,3 +272,13 @@ def test_help_lists_the_exit_codes(cli: Cli) -> None:
     for command in ((), ("run",)):
         text = " ".join(cli.invoke(*command, "--help").split())
         assert "Exit codes: 0 done" in text and "3 run finished" in text and "143" in text
+
+
+def test_a_ray_client_address_is_a_one_line_error(cli: Cli, tmp_path: Path) -> None:
+    pytest.importorskip("ray", reason="the ray extra is not installed")
+    out = tmp_path / "run"
+    args = cli.run_args(out, "oracle", FEW[:1], "0", "--exec-backend", "ray")
+    refused = cli.run(*args, "--ray-address", "ray://head:10001")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+    assert "Ray Client addresses are not supported" in refused.stderr
+    assert not out.exists()

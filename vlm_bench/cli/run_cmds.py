@@ -51,6 +51,10 @@ def replay_options(workers: int | None, backend: str, address: str | None) -> Re
         raise ConfigError("--ray-address needs --exec-backend ray")
     if backend == "ray" and importlib.util.find_spec("ray") is None:
         raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'")
+    if backend == "ray":
+        from vlm_bench.runner.replays_ray import check_ray_address
+
+        check_ray_address(address)
     kind: Literal["process", "ray"] = "ray" if backend == "ray" else "process"
     return ReplayOptions(workers=workers, backend=kind, ray_address=address)
 
@@ -91,9 +95,9 @@ def _print_summary(result: RunResult) -> None:
     if unanswered:
         first = unanswered[0]
         console.print(
-            f"[yellow]{len(unanswered)} of {len(result.records)} episode(s) have no answer "
-            f"(the backend failed after its retries, e.g. {first.key}: {first.backend_error}); "
-            "re-run the same command to retry them[/]",
+            f"[yellow]{len(unanswered)} of {len(result.records)} episode(s) have no result "
+            f"(the backend failed after its retries, or a replay was lost; e.g. {first.key}: "
+            f"{first.backend_error}); re-run the same command to retry them[/]",
             soft_wrap=True,
             highlight=False,
         )

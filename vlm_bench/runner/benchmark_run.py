@@ -180,8 +180,9 @@ def run_benchmark(
         RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
+        options = replay or ReplayOptions()
         replays = (
-            Replays(make_pool(replay or ReplayOptions()), config.uav_noise, shown.replays_changed)
+            Replays(make_pool(options), config.uav_noise, shown.replays_changed, options.stall_s)
             if config.execute
             else None
         )

@@ -81,8 +81,9 @@ def rescore_run(
         label = f"rescore {store.paths.run_id}"
         records = list(store.records.values())
         done: dict[str, EpisodeRecord] = {}
+        options = replay or ReplayOptions()
         replays = (
-            Replays(make_pool(replay or ReplayOptions()), config.uav_noise)
+            Replays(make_pool(options), config.uav_noise, stall_s=options.stall_s)
             if config.execute
             else None
         )

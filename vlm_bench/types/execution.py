@@ -283,3 +283,11 @@ class ReplayOptions(Frozen):
     ray_address: str | None = Field(
         default=None, description="Ray cluster address (ray backend); None = a local cluster."
     )
+    stall_s: float = Field(
+        default=900.0,
+        gt=0,
+        description="With replays in flight and none finishing for this long (s), those in "
+        "flight are given up as lost (a resume runs them again). Five times the longest replay "
+        "a plan can make (860 s simulated at a real-time factor of 5): only a hung worker or a "
+        "lost node reaches it.",
+    )

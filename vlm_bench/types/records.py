@@ -23,7 +23,8 @@ RECORD_SCHEMA_VERSION = 2
 
 RecordStatus = Literal["ok", "error"]
 """``ok``: the model answered and the answer was scored (whatever its quality);
-``error``: the backend failed to answer (server error, timeout); a resume retries it."""
+``error``: the episode has no result yet: the backend failed to answer (server error, timeout)
+or the infrastructure lost its replay (a dead worker or node); a resume retries it."""
 
 TIMING_FIELDS = frozenset({"latency_s", "batch_latency_s", "created"})
 """Fields that differ between two otherwise identical runs (and ``execution.wall_time_s``)."""
@@ -90,7 +91,9 @@ class EpisodeRecord(Tolerant):
     execution: ExecutionSummary | None = Field(
         default=None, description="Outcome of replaying the plan (None: not executed)."
     )
-    backend_error: Utf8Str | None = Field(default=None, description="Backend failure, if any.")
+    backend_error: Utf8Str | None = Field(
+        default=None, description="Why an error record has no result (backend, lost replay)."
+    )
     status: RecordStatus = Field(description="ok or error (see RecordStatus).")
     created: datetime = Field(default_factory=utc_now, description="When it was written (UTC).")
 
