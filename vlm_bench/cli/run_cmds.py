@@ -36,11 +36,22 @@ RayAddress = Annotated[
     str | None,
     typer.Option(help="Ray cluster to replay on (--exec-backend ray; default: a local one)."),
 ]
+ExecStall = Annotated[
+    float | None,
+    typer.Option(
+        min=0.001,
+        help="Give up the replays in flight when none finishes for this long (s; default 900): "
+        "a hung worker or a lost node; a resume runs them again.",
+    ),
+]
 _VIEWS = ("uav", "wrist", "overhead", "side")
 
 
-def replay_options(workers: int | None, backend: str, address: str | None) -> ReplayOptions:
-    """``--exec-workers/--exec-backend/--ray-address`` checked (before anything is written)."""
+def replay_options(
+    workers: int | None, backend: str, address: str | None, stall_s: float | None = None
+) -> ReplayOptions:
+    """``--exec-workers/--exec-backend/--ray-address/--exec-stall-s`` checked (before anything
+    is written)."""
     import importlib.util
 
     from vlm_bench.types.execution import ReplayOptions
@@ -56,7 +67,10 @@ def replay_options(workers: int | None, backend: str, address: str | None) -> Re
 
         check_ray_address(address)
     kind: Literal["process", "ray"] = "ray" if backend == "ray" else "process"
-    return ReplayOptions(workers=workers, backend=kind, ray_address=address)
+    options = ReplayOptions(workers=workers, backend=kind, ray_address=address)
+    if stall_s is None:
+        return options
+    return options.model_copy(update={"stall_s": finite("--exec-stall-s", stall_s)})
 
 
 def parse_views(text: str) -> tuple[str, ...]:
@@ -172,6 +186,7 @@ def run(
     exec_workers: ExecWorkers = None,
     exec_backend: ExecBackend = "process",
     ray_address: RayAddress = None,
+    exec_stall_s: ExecStall = None,
 ) -> None:
     """Evaluate a model as a planner (and execute its plans); resumes the run folder."""
     from pydantic import ValidationError
@@ -211,7 +226,7 @@ def run(
         execute=execute,
         uav_noise=uav_noise,
     )
-    replay = replay_options(exec_workers, exec_backend, ray_address)
+    replay = replay_options(exec_workers, exec_backend, ray_address, exec_stall_s)
     run_dir = run_dir_for(config, out, run_name)
     try:
         result = api_run(
