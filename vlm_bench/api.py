@@ -164,7 +164,10 @@ def rescore(
     outcome = rescore_run(Path(run_dir), progress=progress, replay=replay)
     summary = write_summary(outcome.run_dir)
     stats = PipelineStats(
-        total=len(outcome.records), executed=outcome.executed, changed=outcome.changed
+        total=len(outcome.records),
+        executed=outcome.executed,
+        changed=outcome.changed,
+        torn_bytes=outcome.torn_bytes,
     )
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, stats)
 

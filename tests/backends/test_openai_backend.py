@@ -44,6 +44,7 @@ class FakeServer:
         self.calls = 0
         self.model_lists = 0
         self.enforces_schema = True
+        self.raw: tuple[str, bytes] | None = None  # answer 200 with this content type and body
         self.lock = threading.Lock()
         server = self
 
@@ -73,6 +74,14 @@ class FakeServer:
                         return
                 if call <= server.fail_first:
                     self._reply(server.status, {"error": {"message": "boom", "type": "server"}})
+                    return
+                if server.raw is not None:
+                    content_type, raw = server.raw
+                    self.send_response(200)
+                    self.send_header("Content-Type", content_type)
+                    self.send_header("Content-Length", str(len(raw)))
+                    self.end_headers()
+                    self.wfile.write(raw)
                     return
                 text = json.dumps([{"subtask": 0, "tasktype": "UAV", "direction": "left"}])
                 schema = body.get("response_format", {}).get("json_schema", {}).get("schema", {})
@@ -336,3 +345,18 @@ def test_settings_beyond_the_openai_api_go_in_the_body(server: FakeServer) -> No
     assert "repetition_penalty" not in plain and "top_k" not in plain
     assert penalised["repetition_penalty"] == 1.05 and "top_k" not in penalised
     assert sampled["top_k"] == 20
+
+
+@pytest.mark.parametrize(
+    "content_type", ["text/html", "application/json"], ids=["html", "broken-json"]
+)
+def test_a_200_body_that_is_not_json_is_named_as_such(
+    server: FakeServer, content_type: str
+) -> None:
+    server.raw = (content_type, b"<html><body>502 Bad Gateway from the proxy</body></html>")
+    backend = resolve_backend("openai/m", {"base_url": server.url, **FAST})
+    (result,) = backend.generate([_request("a")], GenerationConfig())
+    assert result.error == (
+        "the server sent a body that is not JSON (first 80 bytes: "
+        "'<html><body>502 Bad Gateway from the proxy</body></html>')"
+    )

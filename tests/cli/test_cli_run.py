@@ -137,6 +137,26 @@ def test_rescore_command_rewrites_records_and_summary(cli: Cli, tmp_path: Path) 
     assert (pd.read_csv(out / "summary.csv")[METRICS] == 100.0).all().all()
 
 
+def test_a_torn_last_record_line_is_reported_then_healed_by_rescore(
+    cli: Cli, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    cli.invoke(*_run_args(cli, out, "oracle", FEW[:1], seeds="0"))
+    records = out / "records.jsonl"
+    lines = records.read_bytes().splitlines(keepends=True)
+    records.write_bytes(b"".join(lines[:-1]) + lines[-1][:40])  # a crash mid-write
+    reported = cli.run("report", str(out), "--no-stats")
+    assert reported.returncode == 0, reported.stderr
+    assert f"{records} ends in a torn line (40 bytes" in reported.stderr
+    rescored = cli.run("rescore", str(out), "--no-progress")
+    assert rescored.returncode == 0, rescored.stderr
+    said = " ".join(rescored.stdout.split())
+    assert "records.jsonl ended in a torn line (40 bytes" in said and "re-run the run" in said
+    assert records.read_bytes() == b"".join(lines[:-1])  # healed: whole lines only
+    resumed = cli.run(*_run_args(cli, out, "oracle", FEW[:1], seeds="0"))
+    assert resumed.returncode == 0 and len(latest_records(records)) == 2
+
+
 def test_score_command_json(cli: Cli, tmp_path: Path) -> None:
     episode = make_episode("standard_pick_place", 1)
     gt = plan_to_json(episode.gt_plan)
@@ -228,3 +248,37 @@ def test_planning_help_and_api_import_stay_light() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "", f"imported: {result.stdout}"
+
+
+def test_a_run_the_backend_never_answers_exits_3_and_says_how_to_retry(
+    cli: Cli, tmp_path: Path
+) -> None:
+    script = tmp_path / "answers.jsonl"
+    script.write_text("")  # the mock answers no id: every request fails in the backend
+    out = tmp_path / "run"
+    args = cli.run_args(out, "mock", ("standard_pick_place",), "0-1", "--resolution", "32")
+    failed = cli.run(*args, "--no-execute", "-M", f"file={script}")
+    assert failed.returncode == 3, failed.stderr
+    said = " ".join(failed.stdout.split())
+    assert "4 of 4 episode(s) have no result" in said and "re-run the same command" in said
+    answered = '{"id": "%s", "text": "[{\\"tasktype\\": \\"UAV\\", \\"direction\\": \\"up\\"}]"}'
+    keys = [f"standard_pick_place/{s}/{v}" for s in (0, 1) for v in ("explicit", "implicit")]
+    script.write_text("\n".join(answered % k for k in keys) + "\n")
+    retried = cli.run(*args, "--no-execute", "-M", f"file={script}")
+    assert retried.returncode == 0, retried.stdout + retried.stderr
+
+
+def test_help_lists_the_exit_codes(cli: Cli) -> None:
+    for command in ((), ("run",)):
+        text = " ".join(cli.invoke(*command, "--help").split())
+        assert "Exit codes: 0 done" in text and "3 run finished" in text and "143" in text
+
+
+def test_a_ray_client_address_is_a_one_line_error(cli: Cli, tmp_path: Path) -> None:
+    pytest.importorskip("ray", reason="the ray extra is not installed")
+    out = tmp_path / "run"
+    args = cli.run_args(out, "oracle", FEW[:1], "0", "--exec-backend", "ray")
+    refused = cli.run(*args, "--ray-address", "ray://head:10001")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+    assert "Ray Client addresses are not supported" in refused.stderr
+    assert not out.exists()

@@ -18,7 +18,7 @@ from vlm_bench.executor.skills.grasping import Grasper
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos, set_arm_targets
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, FailureCode
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 TASK = "color_distractor_green"
@@ -144,3 +144,15 @@ def test_a_skill_failing_with_bare_text_is_coded_skill_failed(episode: Episode) 
     assert result.failure_reason == "step 1: the gripper is on strike"
     assert result.failure_code is FailureCode.SKILL_FAILED
     assert ExecutionSummary.of(result).failure_code is FailureCode.SKILL_FAILED
+
+
+def test_a_replay_past_its_simulated_time_budget_fails_with_its_code(episode: Episode) -> None:
+    config = ExecutorConfig(budget_base_s=1.0, budget_per_step_s=0.5)
+    assert config.sim_budget_s(2) == 2.0
+    plan = [UavStep(direction=Direction.RIGHT), UavStep(direction=Direction.LEFT)]
+    result = execute_plan(episode, plan, config)
+    first, second = result.steps
+    assert first.failure_code == FailureCode.SIM_BUDGET and first.status == "failed"
+    assert second.failure_code == FailureCode.EARLIER_FAILURE
+    assert result.failure_code == FailureCode.SIM_BUDGET and not result.exec_success
+    assert result.sim_time_s < 2.0 + 0.1 + config.settle_s + 0.1  # cut, then settled

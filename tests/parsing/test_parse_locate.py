@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from vlm_bench.parsing import extract, parse_plan
 from vlm_bench.parsing.extract import strip_think
+from vlm_bench.parsing.locate import MAX_SEARCH_CHARS
 from vlm_bench.scoring import score_plan
 from vlm_bench.types.parse import ParseCode, ParseResult, Repair
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
@@ -118,12 +119,11 @@ def test_strip_think_matches_the_regex(parts: list[str]) -> None:
 # --- Outputs of a megabyte parse to the right result (no timing asserts) ---------------------
 
 
-def test_megabyte_of_python_dict_steps() -> None:
+def test_a_megabyte_plan_is_too_long_and_searched_in_windows() -> None:
     step = "{'subtask': 0, 'tasktype': 'UAV', 'direction': 'front'}, "
-    n = MB // len(step)
-    result = parse_plan("[" + step * n + "]", IDS)
-    assert result.tier == "repaired" and result.repairs == (Repair.JSON_REPAIR,)
-    assert result.n_steps == n and result.valid_steps() == [GT[0]] * n
+    result = parse_plan("[" + step * (MB // len(step)) + "]", IDS)
+    assert result.tier == "invalid" and ParseCode.TOO_LONG in result.errors
+    assert Repair.WINDOW in result.repairs and not result.steps
 
 
 def test_megabyte_of_unclosed_think_tags() -> None:
@@ -133,21 +133,30 @@ def test_megabyte_of_unclosed_think_tags() -> None:
     assert_full_match(parse_plan(tags + "</think>" + PLAN, IDS))
 
 
-def test_megabyte_of_prose_with_brackets() -> None:
+def test_megabyte_of_prose_with_brackets_then_the_plan() -> None:
     rng = random.Random(0)
     words = ["the", "cup", "[", "{", "]", "}", "[1]", "{x}", "a", "list", ":", ",", "'", '"']
     prose = " ".join(rng.choice(words) for _ in range(MB // 2))
     assert len(prose) > MB
-    assert_full_match(parse_plan(prose + "\n" + PLAN, IDS))
+    result = parse_plan(prose + "\n" + PLAN, IDS)
+    assert_full_match(result)
+    assert Repair.WINDOW in result.repairs
 
 
-def test_megabyte_single_json_array() -> None:
-    steps = [{"subtask": i, "tasktype": "UAV", "direction": "front"} for i in range(14_000)]
-    text = json.dumps(steps)
-    result = parse_plan(text, IDS)
-    assert result.tier == "valid" and len(result.valid_steps()) == 14_000
-    in_prose = parse_plan("I will fly [slowly: " + text + " Done.", IDS)
-    assert in_prose.tier == "repaired" and len(in_prose.valid_steps()) == 14_000
+def test_a_plan_before_a_megabyte_of_looping_prose_is_found() -> None:
+    loop = "and then I fly up again. " * (MB // 25)
+    result = parse_plan("Plan: " + PLAN + "\n" + loop, IDS)
+    assert_full_match(result)
+    assert Repair.WINDOW in result.repairs and ParseCode.TRUNCATED not in result.errors
+
+
+def test_output_up_to_the_bound_is_searched_whole() -> None:
+    text = PLAN + " " + "x" * (MAX_SEARCH_CHARS - len(PLAN) - 1)
+    assert len(text) == MAX_SEARCH_CHARS
+    whole = parse_plan(text, IDS)
+    assert_full_match(whole)
+    assert Repair.WINDOW not in whole.repairs
+    assert Repair.WINDOW in parse_plan(text + "x", IDS).repairs
 
 
 def test_json_repair_work_is_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -163,9 +172,17 @@ def test_json_repair_work_is_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
     for text in ("[" + step * (MB // len(step)) + "]", "a [b: {c: d} " * (MB // 13)):
         handed.clear()
         parse_plan(text, IDS)
-        assert len(handed) <= extract.MAX_REPAIRS
+        # each of the two windows searched has its own budget
+        assert len(handed) <= 2 * extract.MAX_REPAIRS
         assert sum(handed) <= len(text) // 10, sum(handed)  # a bounded amount, not the text
-        assert sum(handed) <= extract.MAX_REPAIR_CHARS
+        assert sum(handed) <= 2 * extract.MAX_REPAIR_CHARS
+
+
+def test_extraction_of_a_megabyte_json_array_is_linear() -> None:
+    steps = [{"subtask": i, "tasktype": "UAV", "direction": "front"} for i in range(14_000)]
+    text = "I will fly [slowly: " + json.dumps(steps) + " Done."
+    cands, _ = extract.candidates(text)
+    assert max(len(c.value) for c in cands if isinstance(c.value, list)) == 14_000
 
 
 def test_long_whitespace_in_a_number_field() -> None:

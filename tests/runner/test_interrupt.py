@@ -7,7 +7,7 @@ import signal
 
 import pytest
 
-from vlm_bench.runner.interrupt import deferred_interrupt
+from vlm_bench.runner.interrupt import Terminated, deferred_interrupt
 
 
 @pytest.fixture
@@ -39,3 +39,16 @@ def test_ignored_sigint_stays_ignored() -> None:
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+def test_sigterm_stops_like_ctrl_c_and_says_so() -> None:
+    previous = signal.getsignal(signal.SIGTERM)
+    with deferred_interrupt() as stop:
+        os.kill(os.getpid(), signal.SIGTERM)
+        assert stop.requested and stop.terminated
+        with pytest.raises(Terminated):
+            stop.check()
+        with pytest.raises(Terminated):
+            os.kill(os.getpid(), signal.SIGTERM)  # a second one: at once
+    assert signal.getsignal(signal.SIGTERM) is previous
+    assert issubclass(Terminated, KeyboardInterrupt)  # unwinds as Ctrl-C does

@@ -5,8 +5,11 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+import pytest
 
 from vlm_bench.storage import latest_records, read_records
 
@@ -92,3 +95,114 @@ def test_ctrl_c_exits_130_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
     resumed = cli.run(*_args(cli, out))
     assert resumed.returncode == 0, resumed.stderr
     assert len(latest_records(records)) == TOTAL
+
+
+def test_sigterm_exits_143_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    args = cli.run_args(out, "oracle", TASKS[:2], "0-1", "--resolution", "32", "--no-execute")
+    proc = subprocess.Popen(
+        cli.command(*args, "--batch-size", "1"),
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    records = out / "records.jsonl"
+    cli.wait_for_records(proc, records, 2, timeout=50)
+    proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 143, stderr
+    assert "terminated" in stderr and "re-run the same command to resume" in stderr
+    assert "Traceback" not in stderr
+    assert 2 <= len(read_records(records)) < 8  # complete records only
+    resumed = cli.run(*args)
+    assert resumed.returncode == 0, resumed.stderr
+    assert len(latest_records(records)) == 8
+
+
+def _children(pid: int) -> list[int]:
+    """Pids whose parent is ``pid`` (from /proc)."""
+    out = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                stat = (entry / "stat").read_text()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                out.append(int(entry.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    """Running (a zombie waiting for a reaper does not count)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
+def test_sigkill_of_the_run_takes_its_replay_workers_with_it(cli: Cli, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    options = ("--resolution", "32", "--batch-size", "1", "--exec-workers", "2")
+    args = cli.run_args(out, "oracle", TASKS[:4], "0", *options)
+    proc = subprocess.Popen(
+        cli.command(*args), cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    try:
+        deadline = time.monotonic() + 90
+        workers: list[int] = []
+        # The two workers start with the first two replays, beside multiprocessing's tracker.
+        while len(workers) < 3 and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.1)
+            workers = [p for p in _children(proc.pid) if _alive(p)]
+        assert len(workers) >= 3, workers
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+        end = time.monotonic() + 5
+        while time.monotonic() < end and any(_alive(p) for p in workers):
+            time.sleep(0.1)
+        assert not [p for p in workers if _alive(p)]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+
+
+@pytest.mark.slow  # two runs with replays: over a minute on a 2-core machine
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
+def test_sigterm_stops_a_replaying_run_like_ctrl_c(cli: Cli, tmp_path: Path) -> None:
+    out = tmp_path / "stopped" / "run"
+    clean_dir = tmp_path / "clean" / "run"
+    options = ("--resolution", "32", "--batch-size", "1", "--exec-workers", "2")
+    args = cli.run_args(out, "oracle", TASKS[:3], "0", *options)
+    proc = subprocess.Popen(
+        cli.command(*args), cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
+    workers: list[int] = []
+    deadline = time.monotonic() + 90
+    while len(workers) < 3 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.1)
+        workers = [p for p in _children(proc.pid) if _alive(p)]
+    proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 143, stderr
+    assert "terminated" in stderr and "re-run the same command to resume" in stderr
+    assert "Traceback" not in stderr
+    end = time.monotonic() + 5
+    while time.monotonic() < end and any(_alive(p) for p in workers):
+        time.sleep(0.1)
+    assert len(workers) >= 3 and not [p for p in workers if _alive(p)]
+    records = out / "records.jsonl"
+    assert len(read_records(records)) < 6  # stopped before the end
+    resumed = cli.run(*args)
+    assert resumed.returncode == 0, resumed.stderr
+    clean = cli.run(*cli.run_args(clean_dir, "oracle", TASKS[:3], "0", *options))
+    assert clean.returncode == 0, clean.stderr
+    got = sorted((r.without_timing() for r in latest_records(records)), key=lambda r: r["key"])
+    want = sorted(
+        (r.without_timing() for r in latest_records(clean_dir / "records.jsonl")),
+        key=lambda r: r["key"],
+    )
+    assert len(got) == 6 and got == want

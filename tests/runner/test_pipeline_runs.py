@@ -9,12 +9,12 @@ from pathlib import Path
 import pytest
 
 import vlm_bench.api as api
-from vlm_bench.backends import Backend
+from vlm_bench.backends import Backend, operational_args
 from vlm_bench.backends.builtin import OracleBackend
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.runner import SnapshotSource
-from vlm_bench.storage import SnapshotCache, latest_records
+from vlm_bench.storage import ConfigMismatchError, SnapshotCache, latest_records
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.run import RunConfig
@@ -106,6 +106,41 @@ def test_backend_errors_are_recorded_then_retried_on_resume(tmp_path: Path) -> N
     assert all(r.ok for r in second.records) and second.stats.skipped == 6
     lines = (tmp_path / "run" / "records.jsonl").read_text().splitlines()
     assert len(lines) == 10  # append-only: the error records stay, the retries follow
+
+
+def test_a_resume_with_a_longer_timeout_continues_the_run(tmp_path: Path) -> None:
+    # The natural fix after timeouts: more time and gentler retries, same run folder.
+    args = {"base_url": "http://127.0.0.1:9/v1", "timeout_s": "10", "backoff_s": "1"}
+    first = _config().model_copy(update={"model": "openai/served", "backend_args": args})
+    timed_out = {"tower_stacking/0/explicit"}
+    out = tmp_path / "run"
+    api.run(first, out=out, backend=CountingOracle(fail_ids=timed_out))
+    longer = first.model_copy(
+        update={"backend_args": {**args, "timeout_s": "600", "backoff_s": "5", "retries": "9"}}
+    )
+    assert api.run_dir_for(longer) == api.run_dir_for(first)
+    retry = CountingOracle()
+    resumed = api.run(longer, out=out, backend=retry)
+    assert [r.id for c in retry.calls for r in c] == sorted(timed_out)
+    assert all(r.ok for r in resumed.records) and resumed.stats.skipped == 7
+    # An argument that can change the answers still makes another run.
+    other = first.model_copy(update={"backend_args": {**args, "image_detail": "low"}})
+    with pytest.raises(ConfigMismatchError, match=r"backend_args\.image_detail"):
+        api.run(other, out=out, backend=CountingOracle())
+
+
+def test_each_backend_declares_its_operational_arguments() -> None:
+    assert operational_args("openai/x") == {
+        "concurrency",
+        "timeout_s",
+        "retries",
+        "backoff_s",
+        "backoff_max_s",
+        "check_server",
+        "check_timeout_s",
+    }
+    assert operational_args("Qwen/Qwen2.5-VL-3B-Instruct") == {"device_map"}  # hf
+    assert operational_args("vllm/x") == operational_args("oracle") == frozenset()
 
 
 def test_a_raising_backend_does_not_kill_the_run(tmp_path: Path) -> None:

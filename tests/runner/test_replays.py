@@ -8,6 +8,7 @@ import json
 import os
 import signal
 import subprocess
+import threading
 import time
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
@@ -19,10 +20,12 @@ from rich.console import Console
 
 import vlm_bench
 from vlm_bench.episodes import make_episode
+from vlm_bench.runner import replays as replays_module
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import (
     MAX_ATTEMPTS,
+    REPLAY_LOST,
     WORKER_DIED,
     InlinePool,
     ProcessPool,
@@ -36,6 +39,7 @@ from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, FailureCode, ReplayOptions
 from vlm_bench.types.plan import Direction, UavStep, plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.run import RunConfig
 from vlm_bench.types.scores import ScoringConfig
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -146,8 +150,26 @@ class _FlakyPool:
     def restart(self) -> None:
         self.restarts += 1
 
+    def abandon(self) -> None:
+        return None
+
     def close(self, cancel: bool = False) -> None:
         return None
+
+
+class _HungPool(_FlakyPool):
+    """A pool whose replays never finish (a hung worker, or a node that is gone)."""
+
+    def __init__(self) -> None:
+        super().__init__(breaks=0)
+        self.abandoned = 0
+
+    def submit(self, job: ReplayJob) -> Future[Replayed]:
+        self.submitted += 1
+        return Future()
+
+    def abandon(self) -> None:
+        self.abandoned += 1
 
 
 def _record(task: str) -> tuple[Episode, EpisodeRecord]:
@@ -171,15 +193,70 @@ def test_a_dead_worker_is_replaced_and_the_replay_sent_again() -> None:
     assert replays.stats.crashes == 0
 
 
-def test_a_replay_that_keeps_killing_its_worker_is_recorded_as_a_crash() -> None:
+def test_a_replay_that_keeps_killing_its_worker_is_lost_and_retried_on_resume() -> None:
     ep, record = _record(FAST[0])
     replays = Replays(_FlakyPool(breaks=MAX_ATTEMPTS))
     replays.submit(ep, record)
     (out,) = list(replays.drain())
-    assert out.execution is not None and not out.execution.exec_success
-    assert WORKER_DIED in (out.execution.failure_reason or "")
+    assert out.status == "error" and out.execution is None  # not a result: a resume retries
+    assert out.backend_error is not None and out.backend_error.startswith(REPLAY_LOST)
+    assert WORKER_DIED in out.backend_error and out.error_tags == ("replay_lost",)
+    assert replays.stats.lost == 1 and replays.stats.crashes == 0
+
+
+def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from vlm_bench import executor
+
+    def broken(*args: object, **kwargs: object) -> None:
+        raise ZeroDivisionError("executor bug")
+
+    monkeypatch.setattr(executor, "execute_plan", broken)
+    monkeypatch.setattr(replays_module, "_EXECUTORS", {})  # no summary memoised earlier
+    ep, record = _record(FAST[0])
+    replays = Replays(InlinePool())
+    replays.submit(ep, record)
+    (out,) = list(replays.drain())
+    assert out.status == "ok" and out.execution is not None
     assert out.execution.failure_code is FailureCode.EXECUTOR_CRASH
-    assert replays.stats.crashes == 1
+    assert replays.stats.crashes == 1 and replays.stats.lost == 0
+
+
+def test_replays_that_never_finish_are_given_up_within_the_stall_bound() -> None:
+    ep, record = _record(FAST[0])
+    pool = _HungPool()
+    replays = Replays(pool, stall_s=0.3)
+    replays.submit(ep, record)
+    start = time.monotonic()
+    out: list[EpisodeRecord] = []
+    while not out and time.monotonic() - start < 5:
+        out = replays.collect(block=True, timeout=0.05)
+    assert time.monotonic() - start < 2
+    (lost,) = out
+    assert lost.status == "error" and "no replay finished for 0.3 s" in (lost.backend_error or "")
+    assert pool.abandoned == 1 and replays.in_flight == 0
+
+
+def test_a_run_whose_replays_were_lost_resumes_them(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from vlm_bench.runner import benchmark_run
+
+    config = RunConfig(
+        model="oracle", tasks=FAST[:2], seeds=(0,), instructions=("explicit",), resolution=32
+    )
+    inline = ReplayOptions(workers=0)
+    monkeypatch.setattr(benchmark_run, "make_pool", lambda options: _FlakyPool(breaks=99))
+    lost = vlm_bench.run(config, out=tmp_path / "lost" / "run", replay=inline)
+    assert [r.status for r in lost.records] == ["error", "error"]
+    monkeypatch.undo()
+    resumed = vlm_bench.run(config, out=tmp_path / "lost" / "run", replay=inline)
+    assert resumed.stats.skipped == 0 and all(r.ok for r in resumed.records)
+    clean = vlm_bench.run(config, out=tmp_path / "clean" / "run", replay=inline)
+    assert [r.without_timing() for r in resumed.records] == [
+        r.without_timing() for r in clean.records
+    ]
 
 
 def test_a_record_without_a_plan_is_finished_at_once() -> None:
@@ -244,3 +321,37 @@ def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
     assert len(got) == len(FAST) * 2 and sorted(got, key=str) == sorted(want, key=str)
     assert len(read_records(records)) == len(FAST) * 2  # each record written once
     assert all(o[1] is not None for o in got)  # every record carries its execution
+
+
+def test_ctrl_c_is_honoured_at_once_while_replays_hang(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from vlm_bench.runner import benchmark_run
+
+    sent: list[float] = []
+
+    def interrupt() -> None:
+        sent.append(time.monotonic())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    # Ctrl-C once the first replay hangs; a second one (which ends it anyway) much later.
+    timers = [threading.Timer(0.5, interrupt), threading.Timer(20, interrupt)]
+
+    class _InterruptedWhileHung(_HungPool):
+        def submit(self, job: ReplayJob) -> Future[Replayed]:
+            if not self.submitted:
+                for timer in timers:
+                    timer.start()
+            return super().submit(job)
+
+    monkeypatch.setattr(benchmark_run, "make_pool", lambda options: _InterruptedWhileHung())
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    config = RunConfig(model="oracle", tasks=FAST[:1], seeds=(0,), resolution=32)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            vlm_bench.run(config, out=tmp_path / "run", replay=ReplayOptions(workers=1))
+        assert time.monotonic() - sent[0] < 2  # the first Ctrl-C, not the second
+    finally:
+        for timer in timers:
+            timer.cancel()
+        signal.signal(signal.SIGINT, previous)

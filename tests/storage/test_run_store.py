@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from vlm_bench.backends import operational_args
 from vlm_bench.errors import DataFileError
 from vlm_bench.storage import (
     ConfigMismatchError,
@@ -34,7 +35,8 @@ def _manifest_for(config: RunConfig):  # type: ignore[no-untyped-def]
         return RunManifest(
             run_id=run_id,
             config=config.redacted(),
-            config_hash=config.config_hash(),
+            config_hash=config.config_hash(operational_args(config.model)),
+            operational_args=tuple(sorted(operational_args(config.model))),
             backend="oracle",
             data=DataHashes(prompts="p", skills="s", ground_truth="g"),
             packages={},
@@ -147,9 +149,11 @@ def test_batch_size_and_secrets_do_not_change_the_config(tmp_path: Path) -> None
             "backend_args": {"api_key": "sk-2", "base_url": "http://a", "concurrency": "16"},
         }
     )
-    assert base.config_hash() == fast.config_hash()
+    operational = operational_args("openai/x")
+    assert base.config_hash(operational) == fast.config_hash(operational)
+    # The server URL is not operational: another server may serve other weights.
     moved = base.model_copy(update={"backend_args": {"api_key": "sk-1", "base_url": "http://b"}})
-    assert moved.config_hash() != base.config_hash()
+    assert moved.config_hash(operational) != base.config_hash(operational)
     root = tmp_path / "run"
     RunStore.create_or_resume(root, base, _manifest_for(base)).close()
     text = (root / "manifest.json").read_text()
@@ -277,3 +281,14 @@ def test_a_manifest_from_before_loc_alignment_loads_as_order_and_keeps_its_hash(
     assert old.config.scoring.loc_alignment == "order"
     assert "loc_alignment" not in old.config.hashed_fields()["scoring"]
     assert old.config.config_hash() != new.config_hash()
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+def test_a_full_disk_names_the_file() -> None:
+    writer = JsonlWriter(Path("/dev/full"))  # every write fails with ENOSPC
+    try:
+        with pytest.raises(OSError, match="No space left") as info:
+            writer.append({"a": 1})
+        assert info.value.filename == "/dev/full"
+    finally:
+        writer.close()

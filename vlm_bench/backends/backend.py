@@ -6,17 +6,36 @@ from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from typing import ClassVar, Self, TypeVar
 
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict, JsonValue, ValidationError
 
 from vlm_bench.closing import ClosesOnExit
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 
+OPERATIONAL: dict[str, JsonValue] = {"operational": True}
+"""``json_schema_extra`` of a backend argument that cannot change an answer, only how fast or
+where answers come (timeouts, retries and their backoff, concurrency, device placement): a
+run's config hash leaves it out, so a resume may change it. Anything that can change the
+text generated (weights, dtype, attention kernel, image limits, sharding) is not operational."""
+
 
 class BackendArgs(BaseModel):
-    """Base of every backend's ``-M key=value`` arguments (strings coerced to field types)."""
+    """Base of every backend's ``-M key=value`` arguments (strings coerced to field types).
+
+    Mark operational fields with ``Field(..., json_schema_extra=OPERATIONAL)``.
+    """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
+
+    @classmethod
+    def operational_fields(cls) -> frozenset[str]:
+        """Names of the fields marked :data:`OPERATIONAL`."""
+        return frozenset(
+            name
+            for name, field in cls.model_fields.items()
+            if isinstance(field.json_schema_extra, dict)
+            and field.json_schema_extra.get("operational") is True
+        )
 
 
 A = TypeVar("A", bound=BackendArgs)

@@ -70,7 +70,27 @@ for _name, _module, _cls, _takes_model, _doc in _BUILTIN_SPECS:
         _name, BackendEntry(_lazy(f"vlm_bench.backends.{_module}", _cls), _takes_model, _doc)
     )
 _BUILTINS = frozenset(BACKENDS.names())
+_BUILTIN_CLASSES = {name: (f"vlm_bench.backends.{m}", c) for name, m, c, _, _ in _BUILTIN_SPECS}
 _plugins_loaded = False
+
+
+def operational_args(model: str) -> frozenset[str]:
+    """The ``-M`` arguments of the backend ``model`` selects that cannot change an answer
+    (:data:`~vlm_bench.backends.backend.OPERATIONAL`); nothing is built, no heavy import.
+
+    Empty for a plug-in factory function and for a model string no backend serves (the run's
+    own checks report that).
+    """
+    try:
+        name, _ = split_model(model)
+        if name in _BUILTIN_CLASSES:
+            module, cls = _BUILTIN_CLASSES[name]
+            backend: type[Backend] | None = getattr(import_module(module), cls)
+        else:
+            backend = plugin_backend_class(name)
+    except ConfigError:
+        return frozenset()
+    return backend.Args.operational_fields() if backend is not None else frozenset()
 
 
 def plugin_backend_class(name: str) -> type[Backend] | None:

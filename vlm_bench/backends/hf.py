@@ -17,7 +17,13 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas, share_wall_time
+from vlm_bench.backends.backend import (
+    OPERATIONAL,
+    Backend,
+    BackendArgs,
+    require_schemas,
+    share_wall_time,
+)
 from vlm_bench.backends.hf_constrained import SchemaConstraint
 from vlm_bench.backends.hf_decoding import hf_generate_kwargs, neutral_generation_config
 from vlm_bench.backends.image_limits import ImageLimits, apply_image_limits
@@ -36,7 +42,11 @@ class HfArgs(BackendArgs):
     dtype: Literal["auto", "bfloat16", "float16", "float32"] = Field(
         default="auto", description="Weights dtype; auto = bfloat16 on CUDA, float32 on CPU."
     )
-    device_map: str = Field(default="auto", description="device_map on CUDA (ignored on CPU).")
+    device_map: str = Field(
+        default="auto",
+        description="device_map on CUDA (ignored on CPU).",
+        json_schema_extra=OPERATIONAL,
+    )
     trust_remote_code: bool = Field(default=False, description="Run the model repo's own code.")
     attn_implementation: str | None = Field(
         default=None, description="Attention kernel, e.g. sdpa, flash_attention_2."

@@ -18,6 +18,7 @@ their neutral values, which servers such as vLLM read.
 
 from __future__ import annotations
 
+import json
 import os
 import time
 from collections.abc import Sequence
@@ -26,7 +27,12 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.backend import Backend, BackendArgs, require_schemas
+from vlm_bench.backends.backend import (
+    OPERATIONAL,
+    Backend,
+    BackendArgs,
+    require_schemas,
+)
 from vlm_bench.backends.messages import openai_messages
 from vlm_bench.backends.openai_checks import (
     ServerUnreachableError,
@@ -45,15 +51,33 @@ _RETRY_STATUS = frozenset({408, 409, 429})
 class OpenAIArgs(BackendArgs):
     """``-M`` arguments of the openai backend."""
 
+    # Not operational: the URL names the server that answers, and a server elsewhere may serve
+    # other weights under the same name (a resume against it is refused).
     base_url: str | None = Field(
         default=None, description=f"Server URL, e.g. http://127.0.0.1:8000/v1 (env {BASE_URL_ENV})."
     )
     api_key: str | None = Field(default=None, description=f"API key (env {API_KEY_ENV}).")
-    concurrency: int = Field(default=8, ge=1, description="Requests in flight at once.")
-    timeout_s: float = Field(default=120.0, gt=0, description="Per-request timeout (s).")
-    retries: int = Field(default=4, ge=0, description="Retries of a transient failure.")
-    backoff_s: float = Field(default=1.0, ge=0, description="First retry delay (s), doubling.")
-    backoff_max_s: float = Field(default=30.0, ge=0, description="Longest retry delay (s).")
+    concurrency: int = Field(
+        default=8, ge=1, description="Requests in flight at once.", json_schema_extra=OPERATIONAL
+    )
+    timeout_s: float = Field(
+        default=120.0, gt=0, description="Per-request timeout (s).", json_schema_extra=OPERATIONAL
+    )
+    retries: int = Field(
+        default=4,
+        ge=0,
+        description="Retries of a transient failure.",
+        json_schema_extra=OPERATIONAL,
+    )
+    backoff_s: float = Field(
+        default=1.0,
+        ge=0,
+        description="First retry delay (s), doubling.",
+        json_schema_extra=OPERATIONAL,
+    )
+    backoff_max_s: float = Field(
+        default=30.0, ge=0, description="Longest retry delay (s).", json_schema_extra=OPERATIONAL
+    )
     system_role: bool = Field(default=True, description="Send a system message (else merge).")
     image_detail: Literal["low", "high", "auto"] | None = Field(
         default=None, description="OpenAI image detail hint."
@@ -62,11 +86,21 @@ class OpenAIArgs(BackendArgs):
         default="max_tokens", description="Name of the length limit parameter the server takes."
     )
     check_server: bool = Field(
-        default=True, description="Check at load that the server answers (GET /models)."
+        default=True,
+        description="Check at load that the server answers (GET /models).",
+        json_schema_extra=OPERATIONAL,
     )
     check_timeout_s: float = Field(
-        default=5.0, gt=0, description="How long the load-time check waits for an answer (s)."
+        default=5.0,
+        gt=0,
+        description="How long the load-time check waits for an answer (s).",
+        json_schema_extra=OPERATIONAL,
     )
+
+
+def not_json(body: str) -> str:
+    """The error of a 200 answer whose body is not a JSON completion."""
+    return f"the server sent a body that is not JSON (first 80 bytes: {body[:80]!r})"
 
 
 def _describe(exc: BaseException) -> str:
@@ -168,8 +202,13 @@ class OpenAIBackend(Backend):
             )
             own = time.perf_counter() - start
             return GenerationResult(id=request.id, error=_describe(exc), latency_s=own), unreachable
+        except json.JSONDecodeError as exc:  # a JSON content type over a body that is not
+            own = time.perf_counter() - start
+            return GenerationResult(id=request.id, error=not_json(exc.doc), latency_s=own), False
         own = time.perf_counter() - start
-        if not response.choices:
+        if isinstance(response, str):  # the client hands back a body it could not decode
+            return GenerationResult(id=request.id, error=not_json(response), latency_s=own), False
+        if not response.choices or response.choices[0].message is None:
             result = GenerationResult(id=request.id, error="server returned no choices")
             return result.model_copy(update={"latency_s": own}), False
         choice = response.choices[0]

@@ -15,6 +15,7 @@ import typer
 import typer.main
 from typer.exceptions import TyperException
 
+from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
 from vlm_bench.errors import VlmBenchError
 
 app = typer.Typer(
@@ -22,6 +23,7 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
     help="Evaluate vision-language models as planners for aerial manipulation.",
+    epilog=EXIT_CODES_HELP,
     context_settings={"auto_envvar_prefix": "VLM_BENCH"},
 )
 
@@ -62,7 +64,7 @@ def _usage_error(exc: TyperException) -> str:
 def main(argv: list[str] | None = None) -> None:
     """Console entry point: run the app; user errors and usage errors print one line on stderr.
 
-    Exit codes: 0 done, 1 failed or aborted, 2 a user or usage error, 130 interrupted.
+    Exit codes: :class:`~vlm_bench.cli.exit_codes.ExitCode`.
     """
     _register()
     try:
@@ -70,7 +72,7 @@ def main(argv: list[str] | None = None) -> None:
             args=argv, prog_name="vlm-bench", standalone_mode=False
         )
     except VlmBenchError as exc:
-        _fail(_one_line(str(exc)), 2)
+        _fail(_one_line(str(exc)), ExitCode.USAGE)
     except TyperException as exc:
         code = int(getattr(exc, "exit_code", 2))
         line = _usage_error(exc)
@@ -78,12 +80,12 @@ def main(argv: list[str] | None = None) -> None:
             sys.exit(code)
         _fail(line, code)
     except typer.Abort:
-        _fail("aborted", 1)
+        _fail("aborted", ExitCode.FAILED)
     except OSError as exc:  # a file or folder the user named cannot be read or written
         if exc.errno == errno.EPIPE:  # output piped into a reader that quit
             sys.exit(1)
         name = f": {exc.filename}" if exc.filename else ""
-        _fail(_one_line(f"{exc.strerror or exc}{name}"), 1)
+        _fail(_one_line(f"{exc.strerror or exc}{name}"), ExitCode.FAILED)
     sys.exit(result if isinstance(result, int) else 0)
 
 

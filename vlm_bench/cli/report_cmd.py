@@ -132,6 +132,23 @@ def report(
             print(f"warning: {warning}", file=sys.stderr)
     for path in write_outputs(result, tables):
         print(f"wrote {path}", file=sys.stderr)
+    _warn_torn(options.runs)
+
+
+def _warn_torn(runs: tuple[str, ...]) -> None:
+    """Name the runs whose records file ends in a torn line (its episode is not reported)."""
+    from vlm_bench.report.load import resolve_runs
+    from vlm_bench.storage import RunPaths, torn_tail
+
+    for run_dir in resolve_runs(runs):
+        records = RunPaths(run_dir).records
+        torn = torn_tail(records)
+        if torn:
+            print(
+                f"warning: {records} ends in a torn line ({torn} bytes, a crash mid-write): "
+                "that episode is not in the report; re-run its run command to resume it",
+                file=sys.stderr,
+            )
 
 
 def _print_terminal(result: Report, target: Console) -> None:

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 from rich.console import Console
 
+from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
 from vlm_bench.cli.options import finite, parse_seed, parse_seeds, parse_suite, parse_variant
 from vlm_bench.errors import ConfigError, UnknownNameError
 
@@ -35,11 +36,22 @@ RayAddress = Annotated[
     str | None,
     typer.Option(help="Ray cluster to replay on (--exec-backend ray; default: a local one)."),
 ]
+ExecStall = Annotated[
+    float | None,
+    typer.Option(
+        min=0.001,
+        help="Give up the replays in flight when none finishes for this long (s; default 900): "
+        "a hung worker or a lost node; a resume runs them again.",
+    ),
+]
 _VIEWS = ("uav", "wrist", "overhead", "side")
 
 
-def replay_options(workers: int | None, backend: str, address: str | None) -> ReplayOptions:
-    """``--exec-workers/--exec-backend/--ray-address`` checked (before anything is written)."""
+def replay_options(
+    workers: int | None, backend: str, address: str | None, stall_s: float | None = None
+) -> ReplayOptions:
+    """``--exec-workers/--exec-backend/--ray-address/--exec-stall-s`` checked (before anything
+    is written)."""
     import importlib.util
 
     from vlm_bench.types.execution import ReplayOptions
@@ -50,8 +62,15 @@ def replay_options(workers: int | None, backend: str, address: str | None) -> Re
         raise ConfigError("--ray-address needs --exec-backend ray")
     if backend == "ray" and importlib.util.find_spec("ray") is None:
         raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'")
+    if backend == "ray":
+        from vlm_bench.runner.replays_ray import check_ray_address
+
+        check_ray_address(address)
     kind: Literal["process", "ray"] = "ray" if backend == "ray" else "process"
-    return ReplayOptions(workers=workers, backend=kind, ray_address=address)
+    options = ReplayOptions(workers=workers, backend=kind, ray_address=address)
+    if stall_s is None:
+        return options
+    return options.model_copy(update={"stall_s": finite("--exec-stall-s", stall_s)})
 
 
 def parse_views(text: str) -> tuple[str, ...]:
@@ -103,12 +122,15 @@ def _print_summary(result: RunResult) -> None:
     if stats.executed:
         line += f", {stats.executed} plan(s) executed"
     console.print(line + ")", highlight=False, soft_wrap=True)
-    errors = sum(1 for r in result.records if not r.ok)
-    if errors:
+    unanswered = [r for r in result.records if not r.ok]
+    if unanswered:
+        first = unanswered[0]
         console.print(
-            f"[yellow]{errors} episode(s) failed in the backend; re-run the same "
-            "command to retry them[/]",
+            f"[yellow]{len(unanswered)} of {len(result.records)} episode(s) have no result "
+            f"(the backend failed after its retries, or a replay was lost; e.g. {first.key}: "
+            f"{first.backend_error}); re-run the same command to retry them[/]",
             soft_wrap=True,
+            highlight=False,
         )
     crashed = [
         (r.key, r.execution.failure_reason)
@@ -187,6 +209,7 @@ def run(
     exec_workers: ExecWorkers = None,
     exec_backend: ExecBackend = "process",
     ray_address: RayAddress = None,
+    exec_stall_s: ExecStall = None,
 ) -> None:
     """Evaluate a model as a planner (and execute its plans); resumes the run folder."""
     from pydantic import ValidationError
@@ -227,7 +250,7 @@ def run(
         execute=execute,
         uav_noise=uav_noise,
     )
-    replay = replay_options(exec_workers, exec_backend, ray_address)
+    replay = replay_options(exec_workers, exec_backend, ray_address, exec_stall_s)
     run_dir = run_dir_for(config, out, run_name)
     try:
         result = api_run(
@@ -237,14 +260,20 @@ def run(
             progress=progress,
             replay=replay,
         )
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        from vlm_bench.runner.interrupt import Terminated
+
+        terminated = isinstance(exc, Terminated)
         print(
-            f"interrupted: finished episodes are saved in {run_dir}; re-run the same "
-            "command to resume",
+            f"{'terminated' if terminated else 'interrupted'}: finished episodes are saved in "
+            f"{run_dir}; re-run the same command to resume",
             file=sys.stderr,
         )
-        raise typer.Exit(130) from None
+        code = ExitCode.TERMINATED if terminated else ExitCode.INTERRUPTED
+        raise typer.Exit(code) from None
     _print_summary(result)
+    if any(not r.ok for r in result.records):
+        raise typer.Exit(ExitCode.UNANSWERED)
 
 
 def rescore(
@@ -269,6 +298,14 @@ def rescore(
     result = api_rescore(path, progress=progress, replay=replay)
     _print_summary(result)
     console.print(f"{result.stats.changed} record(s) changed", highlight=False)
+    if result.stats.torn_bytes:
+        console.print(
+            f"[yellow]records.jsonl ended in a torn line ({result.stats.torn_bytes} bytes, a "
+            "crash mid-write), now cut off: its episode has no record; re-run the run command "
+            "to score it again from the response cache[/]",
+            soft_wrap=True,
+            highlight=False,
+        )
 
 
 def _score_text(data: dict[str, Any]) -> None:
@@ -314,6 +351,6 @@ def score(
 
 def register(app: typer.Typer) -> None:
     """Add the planning commands to ``app``."""
-    app.command()(run)
+    app.command(epilog=EXIT_CODES_HELP)(run)
     app.command()(rescore)
     app.command()(score)

@@ -19,7 +19,7 @@ from vlm_bench.executor.motion.arm_core import ArmCore
 from vlm_bench.executor.motion.flight_clearance import FlightClearance
 from vlm_bench.executor.motion.uav_moves import fly_to, move_target, stow_arm
 from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop, SimulatorUnstable
+from vlm_bench.executor.sim_loop import ArmSkill, SimBudgetSpent, SimLoop, SimulatorUnstable
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.executor.vla_metrics import vla_scores
 from vlm_bench.sim.constants import ARM_BASE_BODY
@@ -174,8 +174,13 @@ class _Run:
                 run_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
             else:
                 failure, arm = self.arm_step(step)
-        except SimulatorUnstable as err:
-            failure = SkillFailure(FailureCode.SIMULATOR_UNSTABLE, str(err))
+        except (SimulatorUnstable, SimBudgetSpent) as err:
+            code = (
+                FailureCode.SIM_BUDGET
+                if isinstance(err, SimBudgetSpent)
+                else FailureCode.SIMULATOR_UNSTABLE
+            )
+            failure = SkillFailure(code, str(err))
             if isinstance(step, ArmStep):
                 arm = ArmTrace(object=step.object, known=True)
         return StepOutcome(
@@ -240,7 +245,8 @@ def execute_plan(
         observers: Called after every control step (e.g. a video recorder).
 
     Execution stops at the first failed step; later steps are skipped. The result is always
-    returned (simulator blow-ups become failed steps).
+    returned (simulator blow-ups and a spent simulated-time budget,
+    :meth:`~vlm_bench.types.execution.ExecutorConfig.sim_budget_s`, become failed steps).
     """
     wall0 = time.perf_counter()
     config = config or ExecutorConfig()
@@ -249,7 +255,9 @@ def execute_plan(
     run = _Run(episode, loop, arm_skills(loop))
     movable = [o.id for o in episode.objects if object_kind(o.kind).movable]
     start = {i: np.array(loop.data.body(i).xpos) for i in movable}
+    loop.deadline = loop.time + config.sim_budget_s(len(plan))
     outcomes, failure = _replay_steps(run, plan)
+    loop.deadline = None  # settling is bounded by settle_s
     try:
         loop.hold(config.settle_s)
     except SimulatorUnstable as err:

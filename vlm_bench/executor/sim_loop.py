@@ -35,6 +35,10 @@ class SimulatorUnstable(RuntimeError):
     """The state became non-finite or absurdly fast; the executor turns it into a failure."""
 
 
+class SimBudgetSpent(RuntimeError):
+    """Simulated time passed :attr:`SimLoop.deadline`; the executor turns it into a failure."""
+
+
 class SimLoop:
     """Steps a scene at the benchmark's rates and records robot–world contacts.
 
@@ -65,6 +69,8 @@ class SimLoop:
         self.observers: list[Callable[[SimLoop], None]] = []
         """Called after every control step (video recorders, policies' logs)."""
         self._watch: _Watch | None = None
+        self.deadline: float | None = None
+        """Simulated time (s) after which a control step raises :class:`SimBudgetSpent`."""
 
     def _count_bad_warnings(self) -> int:
         return sum(int(self.data.warning[int(w)].number) for w in _BAD_STATE_WARNINGS)
@@ -77,10 +83,13 @@ class SimLoop:
         self._record_contacts()
 
     def control_step(self) -> None:
-        """Advance one 50 ms control period; raises :class:`SimulatorUnstable` on blow-up."""
+        """Advance one 50 ms control period; raises :class:`SimulatorUnstable` on blow-up and
+        :class:`SimBudgetSpent` past the deadline."""
         for _ in range(STEPS_PER_CONTROL):
             self.physics_step()
         self._check_stable()
+        if self.deadline is not None and self.data.time > self.deadline:
+            raise SimBudgetSpent(f"simulated time budget spent ({self.deadline:.0f} s)")
         if self._watch is not None:
             self._watch.update(self)
         for observer in self.observers:

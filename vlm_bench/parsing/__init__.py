@@ -4,7 +4,7 @@ Parsing never raises on model output; see :func:`parse_plan` and
 :class:`vlm_bench.types.parse.ParseCode` for the closed set of error codes.
 """
 
-from vlm_bench.parsing.parser import parse_plan
+from vlm_bench.parsing.parser import error_result, parse_plan
 from vlm_bench.parsing.schema import (
     is_valid,
     plan_json_schema,
@@ -14,6 +14,7 @@ from vlm_bench.parsing.schema import (
 from vlm_bench.parsing.vocab import object_id, token
 
 __all__ = [
+    "error_result",
     "is_valid",
     "object_id",
     "parse_plan",

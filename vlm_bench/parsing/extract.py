@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import ast
 import json
+import math
 import re
 import warnings
 from bisect import bisect_right
@@ -65,10 +66,19 @@ def _reject_constant(name: str) -> Any:
     raise ValueError(f"{name} is not JSON")
 
 
+def json_int(digits: str) -> int | float:
+    """A JSON integer; one too long for ``int`` (Python's 4,300-digit limit) loads as ±inf,
+    which no plan field accepts (so it is recorded as a bad value, not raised)."""
+    try:
+        return int(digits)
+    except ValueError:
+        return -math.inf if digits.startswith("-") else math.inf
+
+
 def strict_loads(text: str) -> tuple[Any, bool]:
     """``json.loads`` that rejects NaN/Infinity and deep nesting; returns (value, ok)."""
     try:
-        return json.loads(text, parse_constant=_reject_constant), True
+        return json.loads(text, parse_constant=_reject_constant, parse_int=json_int), True
     except (ValueError, RecursionError):
         return None, False
 
@@ -238,7 +248,7 @@ def _strict_values(text: str) -> Iterator[tuple[Any, Span]]:
         constants.append(name)  # NaN/Infinity: not JSON; such a value is rejected
         return 0.0
 
-    decoder = json.JSONDecoder(parse_constant=parse_constant)
+    decoder = json.JSONDecoder(parse_constant=parse_constant, parse_int=json_int)
     budget = _DECODE_BUDGET * len(text) + 65_536
     n = len(text)
     match = _JSON_START.search(text)
@@ -261,7 +271,7 @@ def _strict_values(text: str) -> Iterator[tuple[Any, Span]]:
                 if not cut:
                     break
                 size *= 4
-            except RecursionError:
+            except (ValueError, RecursionError):  # too deep, or a value Python cannot hold
                 budget -= len(window) + _ATTEMPT_COST
                 break
         if end < 0 or constants:
@@ -319,7 +329,9 @@ def _literal(text: str) -> Any:
             warnings.simplefilter("ignore")
             try:
                 rewritten = _PY_TOKEN.sub(_python_string, text)
-                return json.loads(rewritten, parse_constant=_reject_constant, strict=False)
+                return json.loads(
+                    rewritten, parse_constant=_reject_constant, parse_int=json_int, strict=False
+                )
             except (ValueError, SyntaxError, RecursionError):
                 return _as_json(ast.literal_eval(text))
     # Syntax, value, memory and recursion errors alike mean "not a Python literal".

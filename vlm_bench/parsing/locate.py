@@ -17,7 +17,9 @@ Choice rules, in order:
 
    Several lone step objects (JSON lines) are joined into one plan, those inside another
    candidate's region only when there are no others.
-3. ``truncated`` is reported when the plan used comes from a region still open at the end of
+3. Text longer than :data:`MAX_SEARCH_CHARS` is searched in its end, then its start
+   (:func:`_windows`, marked ``window``).
+4. ``truncated`` is reported when the plan used comes from a region still open at the end of
    the text, or when a bracket opened after it is still open at the end (the output was cut
    after the plan); when there is no plan, when the text ends inside a bracket. A stray ``[``
    in the prose *before* the plan does not count.
@@ -36,6 +38,9 @@ from vlm_bench.types.parse import ParseCode, Repair
 PLAN_KEYS = frozenset({"plan", "steps", "subtasks", "actions", "tasks", "taskplan", "sequence"})
 _STEP_KEYS = frozenset({"tasktype", "skill", "direction", "object"})
 _MAX_WRAPPING = 4
+MAX_SEARCH_CHARS = 262_144
+"""Longest text (after reasoning blocks are stripped) searched whole for a plan; see
+:func:`_windows` for longer text."""
 
 Kind = Literal["plan", "step", "empty", "none"]
 
@@ -177,17 +182,35 @@ def locate_plan(text: str, _decoded: bool = False) -> Located:
         return Located(None, errors=(code,))
     body = strip_think(text)
     think = (Repair.STRIP_THINK,) if body != text else ()
-    attempts: list[tuple[str, tuple[Repair, ...]]] = [(body, ())]
+    attempts = _windows(body, ())
     fence = fenced_json(body)
     if fence is not None:
-        attempts.insert(0, (fence, (Repair.STRIP_FENCE,)))
+        attempts = _windows(fence, (Repair.STRIP_FENCE,)) + attempts
     failure = ParseCode.NO_JSON
-    last_open: int | None = None
-    for chunk, fenced in attempts:
+    truncated: tuple[ParseCode, ...] = ()
+    for chunk, repairs, at_end in attempts:
         cands, last_open = candidates(chunk)
+        if not at_end:
+            last_open = None  # the cut is not the end of the output
         found = _pick(cands, last_open)
         if found is not None:
-            return Located(found.items, think + fenced + found.repairs, found.errors)
+            return Located(found.items, think + repairs + found.repairs, found.errors)
         failure = _failure(cands) if failure == ParseCode.NO_JSON else failure
-    truncated = (ParseCode.TRUNCATED,) if last_open is not None else ()
-    return Located(None, think, (*truncated, failure))
+        if at_end:
+            truncated = (ParseCode.TRUNCATED,) if last_open is not None else ()
+    window = (Repair.WINDOW,) if any(Repair.WINDOW in r for _, r, _ in attempts) else ()
+    return Located(None, think + window, (*truncated, failure))
+
+
+def _windows(text: str, repairs: tuple[Repair, ...]) -> list[tuple[str, tuple[Repair, ...], bool]]:
+    """The parts of ``text`` searched, each with its repairs and whether it ends the text.
+
+    Text up to :data:`MAX_SEARCH_CHARS` is searched whole; longer text in its last half of
+    that bound (models give the final answer last), then its first half (a model that loops
+    after its answer), marked :attr:`Repair.WINDOW`. Parsing time is bounded accordingly.
+    """
+    if len(text) <= MAX_SEARCH_CHARS:
+        return [(text, repairs, True)]
+    half = MAX_SEARCH_CHARS // 2
+    marked = (*repairs, Repair.WINDOW)
+    return [(text[-half:], marked, True), (text[:half], marked, False)]

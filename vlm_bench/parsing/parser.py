@@ -9,7 +9,7 @@ from jsonschema.protocols import Validator
 
 from vlm_bench.parsing.answer_tag import split_answer
 from vlm_bench.parsing.locate import locate_plan
-from vlm_bench.parsing.schema import plan_json_schema, schema_validator
+from vlm_bench.parsing.schema import MAX_PLAN_STEPS, plan_json_schema, schema_validator
 from vlm_bench.parsing.steps import normalise_step
 from vlm_bench.parsing.vocab import SceneIds, vocabulary
 from vlm_bench.types.parse import AnswerFormat, ParseCode, ParseResult
@@ -17,7 +17,7 @@ from vlm_bench.types.parse import AnswerFormat, ParseCode, ParseResult
 
 @lru_cache(maxsize=256)
 def _validator(object_ids: tuple[str, ...] | None) -> Validator:
-    # The tier judges form, not length: no step bound.
+    # Length is judged before (``too_long``): no step bound here.
     return schema_validator(plan_json_schema(object_ids, max_steps=None))
 
 
@@ -40,15 +40,36 @@ def parse_plan(
         tier: ``valid`` when the raw text is JSON that validates against
         :func:`~vlm_bench.parsing.schema.plan_json_schema` (and every step is clean),
         ``repaired`` when a plan was obtained after repair or normalisation, else ``invalid``.
+        A plan of more than :data:`~vlm_bench.parsing.schema.MAX_PLAN_STEPS` steps is
+        ``invalid`` with code ``too_long`` (it is neither scored step by step nor executed).
+        Whatever else the parser raises on the text is caught: ``invalid`` with code
+        ``error`` and the exception as ``detail``.
     """
-    text = text if isinstance(text, str) else ""
-    tagged = split_answer(text, answer_format) if answer_format is not None else None
-    if tagged is not None:
-        result = parse_plan(tagged.answer, object_ids)
-        return result.model_copy(update={"reasoning": tagged.reasoning})
+    try:
+        text = text if isinstance(text, str) else ""
+        tagged = split_answer(text, answer_format) if answer_format is not None else None
+        if tagged is not None:
+            result = _parse(tagged.answer, object_ids)
+            return result.model_copy(update={"reasoning": tagged.reasoning})
+        return _parse(text, object_ids)
+    # Model output is data: an exception here is a parser bug, recorded on this output only.
+    except Exception as exc:  # noqa: BLE001
+        return error_result(exc)
+
+
+def error_result(exc: Exception) -> ParseResult:
+    """The result standing for an exception raised while parsing or scoring an output."""
+    detail = f"{type(exc).__name__}: {exc}"[:500]
+    return ParseResult(tier="invalid", errors=(ParseCode.ERROR,), detail=detail)
+
+
+def _parse(text: str, object_ids: Sequence[str] | None) -> ParseResult:
     located = locate_plan(text)
     if located.items is None or not located.items:
         errors = located.errors or (ParseCode.EMPTY_PLAN,)
+        return ParseResult(tier="invalid", errors=errors, repairs=located.repairs)
+    if len(located.items) > MAX_PLAN_STEPS:
+        errors = (*located.errors, ParseCode.TOO_LONG)
         return ParseResult(tier="invalid", errors=errors, repairs=located.repairs)
     ids = tuple(object_ids) if object_ids is not None else None
     scene = SceneIds(ids)

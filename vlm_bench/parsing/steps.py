@@ -24,6 +24,7 @@ import re
 from typing import Any
 
 from vlm_bench.parsing.vocab import KEY_ALIASES, SceneIds, Vocabulary, token
+from vlm_bench.types.base import utf8_text
 from vlm_bench.types.parse import ParseCode, ParsedStep
 from vlm_bench.types.plan import Direction
 from vlm_bench.types.skill import SkillField, SkillSpec
@@ -46,7 +47,7 @@ def canonical_keys(raw: dict[str, Any]) -> dict[str, Any]:
 
 def _text(value: str) -> str:
     """Join surrogate pairs and replace lone surrogates (JSON escapes can produce them)."""
-    return value.encode("utf-16", "surrogatepass").decode("utf-16", "replace")
+    return utf8_text(value)
 
 
 def json_safe(value: Any) -> Any:

@@ -9,7 +9,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.backends import Backend, resolve_backend
+from vlm_bench.backends import Backend, operational_args, resolve_backend
 from vlm_bench.backends.preflight import BackendCheck, check_backend, loads_model_in_process
 from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
@@ -50,11 +50,14 @@ class RunOutcome:
 def make_manifest(config: RunConfig, backend_name: str) -> Callable[[str], RunManifest]:
     """A builder of the run's manifest for a run id (provenance is gathered when called)."""
 
+    operational = operational_args(config.model)
+
     def build(run_id: str) -> RunManifest:
         return RunManifest(
             run_id=run_id,
             config=config.redacted(),
-            config_hash=config.config_hash(),
+            config_hash=config.config_hash(operational),
+            operational_args=tuple(sorted(operational)),
             backend=backend_name,
             data=data_hashes(),
             packages=package_versions(),
@@ -175,8 +178,9 @@ def run_benchmark(
         RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
+        options = replay or ReplayOptions()
         replays = (
-            Replays(make_pool(replay or ReplayOptions()), config.uav_noise, shown.replays_changed)
+            Replays(make_pool(options), config.uav_noise, shown.replays_changed, options.stall_s)
             if config.execute
             else None
         )

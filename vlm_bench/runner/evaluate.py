@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from vlm_bench.catalog.model_cards import answer_format_of
-from vlm_bench.parsing import parse_plan
+from vlm_bench.parsing import error_result, parse_plan
 from vlm_bench.scoring import score_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.parse import AnswerFormat, ParseResult
@@ -36,8 +36,14 @@ def evaluate_output(
         The parse result, the valid predicted steps in the paper's JSON format, the scores and
         the error tags: parser codes, then planning error types (duplicates removed).
     """
-    parsed = parse_plan(text, episode.object_ids(), answer_format)
-    scores = score_plan(parsed, episode.gt_plan, scoring)
+    parsed = parse_plan(text, episode.object_ids(), answer_format)  # never raises
+    try:
+        scores = score_plan(parsed, episode.gt_plan, scoring)
+    # One output must not stop a run, nor every resume of it (its answer is cached): what
+    # scoring raises is this output's recorded result, parse code ``error``.
+    except Exception as exc:  # noqa: BLE001
+        parsed = error_result(exc)
+        scores = score_plan(parsed, episode.gt_plan, scoring)
     tags = dict.fromkeys(str(code) for code in parsed.all_errors())
     tags.update(dict.fromkeys(str(err) for err in scores.error_types))
     return Evaluation(parsed, plan_to_json(parsed.valid_steps()), scores, tuple(tags))

@@ -32,6 +32,9 @@ from vlm_bench.types.generation import GenerationRequest, GenerationResult
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig
 
+STOP_POLL_S = 0.2
+"""Longest wait for a replay before the stop flag (Ctrl-C, SIGTERM) is read again (s)."""
+
 
 @dataclass
 class PipelineStats:
@@ -59,6 +62,8 @@ class PipelineStats:
     """The first few executor exception messages."""
     changed: int = 0
     """Records whose parse, plan, scores, tags or execution changed (rescore)."""
+    torn_bytes: int = 0
+    """Bytes of a torn last record line cut off when the folder was opened (rescore)."""
 
 
 @dataclass(frozen=True)
@@ -125,7 +130,7 @@ class EpisodePipeline:
                 self._write_replayed(block=False)
             while self.replays is not None and self.replays.in_flight:
                 self.stop.check()
-                self._write_replayed(block=True)
+                self._write_replayed(block=True)  # waits at most STOP_POLL_S
         except BaseException:
             if self.replays is not None:
                 self.replays.close(cancel=True)
@@ -135,10 +140,11 @@ class EpisodePipeline:
         return self.stats
 
     def _write_replayed(self, block: bool) -> None:
-        """Write the records whose replays finished (``block``: wait for one at least)."""
+        """Write the records whose replays finished (``block``: wait up to
+        :data:`STOP_POLL_S` for one)."""
         if self.replays is None:
             return
-        for record in self.replays.collect(block=block):
+        for record in self.replays.collect(block=block, timeout=STOP_POLL_S):
             self._write(record)
         r = self.replays.stats
         self.stats.executed = r.executed

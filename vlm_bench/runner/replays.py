@@ -17,13 +17,15 @@ from __future__ import annotations
 import json
 import multiprocessing
 import os
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from vlm_bench.runner.plan_executor import PlanExecutor, crash_summary, record_plan
+from vlm_bench.runner.plan_executor import PlanExecutor, record_plan
+from vlm_bench.runner.worker_lifetime import die_with_parent
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
@@ -33,6 +35,8 @@ MAX_ATTEMPTS = 3
 """Times a replay is sent again after its worker process died (a pool breaks as a whole, so
 the replays in flight beside a crashing one are sent again too)."""
 WORKER_DIED = "executor worker died"
+REPLAY_LOST = "replay lost to the infrastructure"
+"""Start of the message of a record whose replay the infrastructure lost (retried on resume)."""
 
 
 @dataclass(frozen=True)
@@ -69,6 +73,11 @@ class ReplayPool(Protocol):
         """Replace workers that died (a no-op where none can)."""
         ...
 
+    def abandon(self) -> None:
+        """Drop every replay in flight (hung, or on a node that is gone): stop what runs them;
+        later submissions start afresh."""
+        ...
+
     def close(self, cancel: bool = False) -> None:
         """Wait for the replays in flight (or, with ``cancel``, drop them) and free the
         workers."""
@@ -93,7 +102,8 @@ def replay(job: ReplayJob) -> Replayed:
     return executor.run(episode, list(job.steps))
 
 
-def _init_worker() -> None:
+def _init_worker(parent: int) -> None:
+    die_with_parent(parent)
     os.environ.setdefault("MUJOCO_GL", "egl")
 
 
@@ -113,13 +123,17 @@ class InlinePool:
     def restart(self) -> None:
         return None
 
+    def abandon(self) -> None:
+        return None
+
     def close(self, cancel: bool = False) -> None:
         return None
 
 
 class ProcessPool:
     """Replays in ``workers`` worker processes of this machine (started with ``spawn``: the
-    parent may hold a GPU context or an EGL renderer that a fork must not inherit)."""
+    parent may hold a GPU context or an EGL renderer that a fork must not inherit). The
+    workers exit when this process does (:func:`~.worker_lifetime.die_with_parent`)."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
@@ -130,6 +144,7 @@ class ProcessPool:
             max_workers=self.workers,
             mp_context=multiprocessing.get_context("spawn"),
             initializer=_init_worker,
+            initargs=(os.getpid(),),
         )
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
@@ -137,6 +152,10 @@ class ProcessPool:
 
     def restart(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)
+        self._pool = self._start()
+
+    def abandon(self) -> None:
+        self.close(cancel=True)
         self._pool = self._start()
 
     def close(self, cancel: bool = False) -> None:
@@ -187,16 +206,25 @@ class ReplayStats:
     """Replays that ended in an executor exception (recorded as failures)."""
     crash_messages: list[str] = field(default_factory=list)
     """``key: reason`` of the first few crashes."""
+    lost: int = 0
+    """Records whose replay the infrastructure lost (written as errors a resume retries)."""
 
 
 class Replays:
     """Executes records' plans on a pool; hands records back as their replays finish.
+
+    A replay lost to the infrastructure (its worker died :data:`MAX_ATTEMPTS` times, Ray
+    gave up on it, or no replay finished for ``stall_s`` seconds: a hung worker, a dead node)
+    hands its record back as an ``error`` record (:data:`REPLAY_LOST`), which a resume runs
+    again; an exception of the executor on the plan stays a recorded ``executor_crash``.
 
     Args:
         pool: Where replays run.
         uav_noise: Gust force std on the UAV (N) of every replay.
         on_change: Called with (submitted, finished, running, queued) after every change
             (progress displays).
+        stall_s: Longest time with replays in flight and none finishing (s); default:
+            :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
     """
 
     def __init__(
@@ -204,11 +232,14 @@ class Replays:
         pool: ReplayPool,
         uav_noise: float = 0.0,
         on_change: Callable[[int, int, int, int], None] | None = None,
+        stall_s: float | None = None,
     ) -> None:
         self.pool = pool
         self.uav_noise = uav_noise
         self.stats = ReplayStats()
+        self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
         self._notify = on_change
+        self._last_progress = time.monotonic()
         self._pending: list[_Pending] = []
         self._futures: dict[str, Future[Replayed]] = {}
         """Replays by job key: a second record with the same plan waits on the first's."""
@@ -230,6 +261,8 @@ class Replays:
         if steps is None:
             return record.model_copy(update={"execution": None})
         job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps))
+        if not self._pending:  # the stall clock runs while replays are in flight
+            self._last_progress = time.monotonic()
         future = self._futures.get(job.key)
         if future is None:
             future = self._futures[job.key] = self.pool.submit(job)
@@ -239,11 +272,11 @@ class Replays:
         self._changed()
         return None
 
-    def collect(self, block: bool = False) -> list[EpisodeRecord]:
+    def collect(self, block: bool = False, timeout: float | None = None) -> list[EpisodeRecord]:
         """Records whose replays finished (with ``block``, waits for at least one while any
-        is in flight)."""
+        is in flight, or ``timeout`` seconds)."""
         if block and self._pending and not any(p.future.done() for p in self._pending):
-            wait({p.future for p in self._pending}, return_when=FIRST_COMPLETED)
+            wait({p.future for p in self._pending}, timeout, return_when=FIRST_COMPLETED)
         broken = [p for p in self._pending if _broken(p.future)]
         while broken:
             self._resend(broken)
@@ -252,6 +285,12 @@ class Replays:
         still: list[_Pending] = []
         for p in self._pending:
             (done if p.future.done() else still).append(p)
+        now = time.monotonic()
+        if done:
+            self._last_progress = now
+        elif still and now - self._last_progress > self.stall_s:
+            self._abandon(still)
+            done, still = still, []
         self._pending = still
         out = [self._finish(p) for p in done]
         if out:
@@ -271,11 +310,23 @@ class Replays:
     def _finish(self, p: _Pending) -> EpisodeRecord:
         try:
             summary, crash = p.future.result()
+        # The executor's own exceptions come back as crash summaries (PlanExecutor.run): what
+        # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
         except Exception as exc:  # noqa: BLE001  (a replay failure must not kill the run)
-            summary, crash = crash_summary(exc, 0.0), f"{type(exc).__name__}: {exc}"
+            self.stats.lost += 1
+            return lost_record(p.record, f"{type(exc).__name__}: {exc}")
         if crash is not None:
             self._crashed(p.record.key, crash)
         return p.record.model_copy(update={"execution": summary})
+
+    def _abandon(self, stalled: list[_Pending]) -> None:
+        """No replay finished for :attr:`stall_s`: give up those in flight (as lost)."""
+        self.pool.abandon()
+        reason = f"no replay finished for {self.stall_s:g} s (a hung worker or a lost node)"
+        for p in stalled:
+            p.future = Future()
+            p.future.set_exception(TimeoutError(reason))
+        self._futures.clear()
 
     def _resend(self, broken: list[_Pending]) -> None:
         """A worker process died, which breaks its whole pool: start new workers and send the
@@ -286,7 +337,7 @@ class Replays:
         for p in broken:
             if p.attempts >= MAX_ATTEMPTS:
                 p.future = Future()
-                p.future.set_result((crash_summary(RuntimeError(WORKER_DIED), 0.0), WORKER_DIED))
+                p.future.set_exception(RuntimeError(f"{WORKER_DIED} {MAX_ATTEMPTS} times"))
                 continue
             key = p.job.key
             if key not in renewed:
@@ -304,6 +355,19 @@ class Replays:
         self.stats.crashes += 1
         if len(self.stats.crash_messages) < 5:
             self.stats.crash_messages.append(f"{key}: {message}")
+
+
+def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:
+    """``record`` as an ``error`` record whose replay the infrastructure lost: a resume scores
+    its cached answer again and replays it."""
+    return record.model_copy(
+        update={
+            "status": "error",
+            "execution": None,
+            "backend_error": f"{REPLAY_LOST} ({reason}); a resume runs it again",
+            "error_tags": ("replay_lost",),
+        }
+    )
 
 
 def _broken(future: Future[Replayed]) -> bool:

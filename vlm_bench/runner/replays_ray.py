@@ -1,10 +1,12 @@
 """Replays on a Ray cluster (``--exec-backend ray``; needs the ``ray`` extra).
 
-Each replay is a Ray task of one CPU: Ray schedules the tasks over the cluster's nodes, retries
-a task whose worker process died (:data:`MAX_RETRIES`) and shows them in its dashboard. With no
-address, a local cluster of ``workers`` CPUs is started for the run and stopped after it; with
-one (``--ray-address ray://head:10001`` or ``auto``), the run joins that cluster, whose nodes
-need vlm-bench installed (see the two-machine recipe in docs/scaling.md).
+Each replay is a Ray task of one CPU: Ray schedules the tasks over the cluster's nodes and
+retries a task whose worker process died (:data:`MAX_RETRIES`). With no address, a local
+cluster of ``workers`` CPUs is started for the run and stopped after it, even where another
+cluster runs on the machine (``address="local"``); with one (``--ray-address auto`` or
+``head:6379``, the run on a node of the cluster), the run joins that cluster, whose nodes need
+vlm-bench installed (see the two-machine recipe in docs/scaling.md). Ray Client addresses
+(``ray://``) are refused: they need ``ray[client]`` and a matching server.
 """
 
 from __future__ import annotations
@@ -17,6 +19,19 @@ from vlm_bench.runner.replays import Replayed, ReplayJob, replay
 
 MAX_RETRIES = 2
 """Times Ray runs a replay again after its worker process died."""
+
+
+def check_ray_address(address: str | None) -> None:
+    """Refuse addresses the run cannot join (before anything is written).
+
+    Raises:
+        ConfigError: A Ray Client address (``ray://``).
+    """
+    if address is not None and address.startswith("ray://"):
+        raise ConfigError(
+            f"--ray-address {address}: Ray Client addresses are not supported; run vlm-bench "
+            "on a node of the cluster with --ray-address auto (or the head's host:6379)"
+        )
 
 
 class RayPool:
@@ -46,12 +61,23 @@ class RayPool:
         except ImportError as exc:
             raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'") from exc
         if not ray.is_initialized():
+            check_ray_address(self.address)
             env = {"env_vars": {"MUJOCO_GL": "egl"}}
-            if self.address is None:
-                ray.init(num_cpus=self.workers, runtime_env=env, include_dashboard=False)
-                self._started = True
-            else:
-                ray.init(address=self.address, runtime_env=env)
+            try:
+                if self.address is None:
+                    ray.init(
+                        address="local",
+                        num_cpus=self.workers,
+                        runtime_env=env,
+                        include_dashboard=False,
+                    )
+                    self._started = True
+                else:
+                    ray.init(address=self.address, runtime_env=env)
+            except (ConnectionError, ValueError, RuntimeError) as exc:
+                where = self.address or "a local cluster"
+                first = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+                raise ConfigError(f"cannot start Ray on {where}: {first[:300]}") from None
         self._task = ray.remote(num_cpus=1, max_retries=MAX_RETRIES)(replay)
         self._ray = ray
         return ray
@@ -71,6 +97,13 @@ class RayPool:
 
     def restart(self) -> None:
         return None  # Ray restarts dead workers itself
+
+    def abandon(self) -> None:
+        ray = self._ray
+        if ray is not None:
+            for ref in list(self._refs.values()):
+                ray.cancel(ref, force=True)
+        self._refs.clear()
 
     def close(self, cancel: bool = False) -> None:
         ray = self._ray

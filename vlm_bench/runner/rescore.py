@@ -33,6 +33,8 @@ class RescoreOutcome:
     """Records whose parse, plan, scores, tags or execution changed."""
     executed: int = 0
     """Plans executed again (runs that execute plans)."""
+    torn_bytes: int = 0
+    """Bytes of a torn last record line (a crash mid-write) cut off the records file."""
 
 
 def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
@@ -62,7 +64,8 @@ def rescore_run(
     again with the run's ``uav_noise``, in the pool ``replay`` asks for (default: one worker
     process per core; identical plans on one episode run once). ``records.jsonl`` is rewritten
     atomically, one line per episode in the order it had, keeping each record's timing and
-    token counts.
+    token counts. A torn last line (a crash mid-write) is cut off and counted in
+    :attr:`RescoreOutcome.torn_bytes`: its episode has no record until the run resumes.
 
     Args:
         run_dir: The run folder.
@@ -82,8 +85,9 @@ def rescore_run(
         label = f"rescore {store.paths.run_id}"
         records = list(store.records.values())
         done: dict[str, EpisodeRecord] = {}
+        options = replay or ReplayOptions()
         replays = (
-            Replays(make_pool(replay or ReplayOptions()), config.uav_noise)
+            Replays(make_pool(options), config.uav_noise, stall_s=options.stall_s)
             if config.execute
             else None
         )
@@ -114,7 +118,14 @@ def rescore_run(
         changed = sum(new.without_timing() != old.without_timing() for new, old in pairs)
         store.rewrite_records(out)
         executed = replays.stats.executed if replays is not None else 0
-        return RescoreOutcome(store.paths.root, store.manifest, tuple(out), changed, executed)
+        return RescoreOutcome(
+            store.paths.root,
+            store.manifest,
+            tuple(out),
+            changed,
+            executed,
+            store.torn_record_bytes,
+        )
 
 
 def _rescored(

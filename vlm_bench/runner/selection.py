@@ -6,6 +6,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from vlm_bench.backends import operational_args
 from vlm_bench.catalog.tasks import get_task, tasks_in
 from vlm_bench.resources import results_dir
 from vlm_bench.types.records import episode_key
@@ -55,5 +56,6 @@ def model_slug(model: str) -> str:
 
 
 def default_run_dir(config: RunConfig, base: Path | None = None) -> Path:
-    """``<results>/<model-slug>-<short config hash>``."""
-    return (base or results_dir()) / f"{model_slug(config.model)}-{config.short_hash()}"
+    """``<results>/<model-slug>-<short config hash>`` (operational backend arguments left out)."""
+    short = config.short_hash(operational_args(config.model))
+    return (base or results_dir()) / f"{model_slug(config.model)}-{short}"

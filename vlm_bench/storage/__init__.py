@@ -7,7 +7,7 @@ from vlm_bench.storage.folder import (
     RunPaths,
     read_manifest,
 )
-from vlm_bench.storage.jsonl import JsonlWriter, iter_jsonl, repair_tail
+from vlm_bench.storage.jsonl import JsonlWriter, iter_jsonl, repair_tail, torn_tail
 from vlm_bench.storage.provenance import data_hashes, git_revision, package_versions
 from vlm_bench.storage.record_reader import latest_records, read_records, read_responses
 from vlm_bench.storage.snapshot_cache import SnapshotCache, default_snapshot_cache
@@ -31,4 +31,5 @@ __all__ = [
     "read_records",
     "read_responses",
     "repair_tail",
+    "torn_tail",
 ]

@@ -148,12 +148,13 @@ def write_manifest(paths: RunPaths, manifest: RunManifest) -> None:
 def check_compatible(
     paths: RunPaths, stored: RunManifest, config: RunConfig, new: RunManifest
 ) -> None:
-    """Refuse to resume a run whose config or shipped data differ from the stored ones.
+    """Refuse to resume a run whose config or shipped data differ from the stored ones (the
+    operational backend arguments ``new`` names may differ).
 
     Raises:
         ConfigMismatchError: One line naming every differing field.
     """
-    fields = config_differences(stored.config, config)
+    fields = config_differences(stored.config, config, new.operational_args)
     for name in ("prompts", "skills", "ground_truth"):
         if getattr(stored.data, name) != getattr(new.data, name):
             fields.append(f"{name}/ files")

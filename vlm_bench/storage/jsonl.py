@@ -10,11 +10,36 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
 
 from vlm_bench.closing import ClosesOnExit
 from vlm_bench.errors import DataFileError
+
+
+def torn_tail(path: Path) -> int:
+    """How many bytes follow the last newline of ``path`` (a torn last line); 0 when the file
+    is missing, empty or intact. Reads only the end of the file."""
+    if not path.exists():
+        return 0
+    with path.open("rb") as fh:
+        size = fh.seek(0, os.SEEK_END)
+        if size == 0:
+            return 0
+        fh.seek(size - 1)
+        if fh.read(1) == b"\n":
+            return 0
+        # Walk back in blocks to the last newline; everything after it is torn.
+        end = size
+        while end > 0:
+            start = max(0, end - 65536)
+            fh.seek(start)
+            nl = fh.read(end - start).rfind(b"\n")
+            if nl >= 0:
+                return size - (start + nl + 1)
+            end = start
+        return size
 
 
 def repair_tail(path: Path) -> int:
@@ -23,31 +48,13 @@ def repair_tail(path: Path) -> int:
     Returns:
         The number of bytes removed (0 when the file is missing, empty or intact).
     """
-    if not path.exists():
-        return 0
-    with path.open("rb+") as fh:
-        size = fh.seek(0, os.SEEK_END)
-        if size == 0:
-            return 0
-        fh.seek(size - 1)
-        if fh.read(1) == b"\n":
-            return 0
-        # Walk back in blocks to the last newline; keep everything up to and including it.
-        end = size
-        keep = 0
-        while end > 0:
-            start = max(0, end - 65536)
-            fh.seek(start)
-            block = fh.read(end - start)
-            nl = block.rfind(b"\n")
-            if nl >= 0:
-                keep = start + nl + 1
-                break
-            end = start
-        fh.truncate(keep)
-        fh.flush()
-        os.fsync(fh.fileno())
-        return size - keep
+    torn = torn_tail(path)
+    if torn:
+        with path.open("rb+") as fh:
+            fh.truncate(fh.seek(0, os.SEEK_END) - torn)
+            fh.flush()
+            os.fsync(fh.fileno())
+    return torn
 
 
 def iter_jsonl(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
@@ -82,6 +89,7 @@ class JsonlWriter(ClosesOnExit):
         self.fsync = fsync
         repair_tail(path)
         self._fh: IO[bytes] | None = path.open("ab")
+        self._failed = False
 
     def append(self, obj: dict[str, Any] | str) -> None:
         """Write one line: a dict (serialised here) or an already serialised JSON object."""
@@ -90,22 +98,45 @@ class JsonlWriter(ClosesOnExit):
         text = obj if isinstance(obj, str) else json.dumps(obj, ensure_ascii=False)
         if "\n" in text:
             raise ValueError("a JSONL line must not contain a newline")
-        self._fh.write(text.encode("utf-8") + b"\n")
-        self._fh.flush()
-        if self.fsync:
-            os.fsync(self._fh.fileno())
+        with naming_the_file(self.path):
+            try:
+                self._fh.write(text.encode("utf-8") + b"\n")
+                self._fh.flush()
+                if self.fsync:
+                    os.fsync(self._fh.fileno())
+            except OSError:
+                self._failed = True
+                raise
 
     def close(self) -> None:
-        """Close the file. Idempotent."""
-        if self._fh is not None:
-            self._fh.close()
-            self._fh = None
+        """Close the file. Idempotent. After a failed write (a full disk) the bytes still
+        buffered are dropped: the failure was raised by :meth:`append`, the line is torn at
+        worst, and the next writer cuts it off."""
+        fh, self._fh = self._fh, None
+        if fh is None:
+            return
+        try:
+            fh.close()
+        except OSError:
+            if not self._failed:
+                raise
+
+
+@contextmanager
+def naming_the_file(path: Path) -> Iterator[None]:
+    """Re-raise an ``OSError`` without a file name (a full disk on ``write``) naming ``path``."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None:
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
 
 
 def write_jsonl_atomic(path: Path, lines: list[str]) -> None:
     """Replace ``path`` with ``lines`` (serialised JSON objects) via a fsynced temporary file."""
     tmp = path.with_name(f".{path.name}.tmp")
-    with tmp.open("wb") as fh:
+    with naming_the_file(path), tmp.open("wb") as fh:
         for line in lines:
             fh.write(line.encode("utf-8") + b"\n")
         fh.flush()
@@ -116,5 +147,6 @@ def write_jsonl_atomic(path: Path, lines: list[str]) -> None:
 def write_text_atomic(path: Path, text: str) -> None:
     """Replace ``path`` with ``text`` via a temporary file (readers never see half a file)."""
     tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
+    with naming_the_file(path):
+        tmp.write_text(text, encoding="utf-8")
     os.replace(tmp, path)

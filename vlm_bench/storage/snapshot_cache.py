@@ -11,6 +11,8 @@ import os
 import re
 from pathlib import Path
 
+from vlm_bench.storage.jsonl import naming_the_file
+
 _KEY = re.compile(r"^[0-9a-f]{16,64}$")
 _VIEW = re.compile(r"^[a-z][a-z0-9_]*$")
 
@@ -53,5 +55,6 @@ class SnapshotCache:
         path = self._path(key, view)
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{view}.{os.getpid()}.tmp")
-        tmp.write_bytes(png)
+        with naming_the_file(path):
+            tmp.write_bytes(png)
         os.replace(tmp, path)

@@ -40,7 +40,9 @@ class RunStore:
         self.created = created
         """This store wrote the manifest: the run started here (see :meth:`__exit__`)."""
         self._made_root = False
-        self.repaired_bytes = repair_tail(paths.records) + repair_tail(paths.responses)
+        self.torn_record_bytes = repair_tail(paths.records)
+        """Bytes of a torn last record line cut off at opening (a crash mid-write)."""
+        self.repaired_bytes = self.torn_record_bytes + repair_tail(paths.responses)
         self.records: dict[str, EpisodeRecord] = {r.key: r for r in latest_records(paths.records)}
         self.responses: dict[tuple[str, str], CachedResponse] = read_responses(paths.responses)
         self._record_writer: JsonlWriter | None = None

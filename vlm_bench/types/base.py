@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import BaseModel, ConfigDict
+from pydantic import AfterValidator, BaseModel, ConfigDict
 
 Vec3 = tuple[float, float, float]
 """A point or direction in metres (x, y, z), as stored in data files."""
@@ -12,6 +14,22 @@ RGBA = tuple[float, float, float, float]
 """A colour with alpha, each channel in [0, 1]."""
 FloatArray = NDArray[np.float64]
 """A float64 numpy array (positions, joint angles, rotation matrices) inside the simulator."""
+
+
+def utf8_text(value: str) -> str:
+    """``value`` as UTF-8 can hold it: surrogate pairs joined, lone surrogates (which JSON
+    escapes and undecodable command-line bytes produce) replaced by U+FFFD."""
+    if value.isascii():
+        return value
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        return value.encode("utf-16", "surrogatepass").decode("utf-16", "replace")
+    return value
+
+
+Utf8Str = Annotated[str, AfterValidator(utf8_text)]
+"""Text from outside (model answers, server messages) as stored: see :func:`utf8_text`."""
 
 
 class Frozen(BaseModel):

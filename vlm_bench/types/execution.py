@@ -62,6 +62,8 @@ class FailureCode(StrEnum):
     """The simulation blew up (non-finite or absurdly fast state)."""
     EXECUTOR_CRASH = "executor_crash"
     """The executor raised (or its worker died); the runner records it and carries on."""
+    SIM_BUDGET = "sim_budget"
+    """The replay used up its simulated-time budget (:meth:`ExecutorConfig.sim_budget_s`)."""
 
 
 @dataclass(frozen=True)
@@ -139,6 +141,22 @@ class ExecutorConfig(Frozen):
         description="Gust force std on the UAV (N); 0 = calm (the paper's UAV Disturb.).",
     )
     noise_seed: int = Field(default=0, description="Seed of the gust process.")
+    budget_base_s: float = Field(
+        default=60.0, gt=0, description="Simulated time every replay may use (s)."
+    )
+    budget_per_step_s: float = Field(
+        default=40.0, ge=0, description="Simulated time each plan step adds to the budget (s)."
+    )
+
+    def sim_budget_s(self, n_steps: int) -> float:
+        """The simulated time a replay of ``n_steps`` steps may use before settling (s).
+
+        ``budget_base_s + budget_per_step_s × n_steps``. GT steps take up to 26 s of simulated
+        time (docs/decisions.md), and a policy-driven ARM step ends at 30 s
+        (:data:`~vlm_bench.vla.hierarchical.DEFAULT_MAX_STEPS`), so no plan that finishes comes
+        near it, while a replay that cannot finish ends in :attr:`FailureCode.SIM_BUDGET`.
+        """
+        return self.budget_base_s + self.budget_per_step_s * n_steps
 
 
 class ArmTrace(FiniteFrozen):
@@ -264,4 +282,12 @@ class ReplayOptions(Frozen):
     )
     ray_address: str | None = Field(
         default=None, description="Ray cluster address (ray backend); None = a local cluster."
+    )
+    stall_s: float = Field(
+        default=900.0,
+        gt=0,
+        description="With replays in flight and none finishing for this long (s), those in "
+        "flight are given up as lost (a resume runs them again). Five times the longest replay "
+        "a plan can make (860 s simulated at a real-time factor of 5): only a hung worker or a "
+        "lost node reaches it.",
     )

@@ -6,7 +6,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from vlm_bench.types.base import Frozen
+from vlm_bench.types.base import Frozen, Utf8Str
 from vlm_bench.types.plan import ArmStep, PlanStep
 
 
@@ -123,8 +123,8 @@ class GenerationResult(Frozen):
     """A backend's answer to one request. Failures are recorded here, never raised."""
 
     id: str = Field(description="The request's id.")
-    text: str = Field(default="", description="Generated text ('' on error).")
-    error: str | None = Field(
+    text: Utf8Str = Field(default="", description="Generated text ('' on error).")
+    error: Utf8Str | None = Field(
         default=None, description="Server error, timeout, or other failure to generate; None = ok."
     )
     latency_s: float = Field(

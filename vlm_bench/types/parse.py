@@ -10,7 +10,7 @@ from typing import Literal
 
 from pydantic import Field, JsonValue
 
-from vlm_bench.types.base import Frozen
+from vlm_bench.types.base import Frozen, Utf8Str
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 ParseTier = Literal["valid", "repaired", "invalid"]
@@ -35,6 +35,11 @@ class ParseCode(StrEnum):
     """The output ends inside an open JSON array/object (closed by repair, or unusable)."""
     SCHEMA = "schema"
     """The plan as extracted violates the plan JSON Schema (spelling, type or validity errors)."""
+    TOO_LONG = "too_long"
+    """The plan has more steps than the schema allows (``MAX_PLAN_STEPS``); it is not used."""
+    ERROR = "error"
+    """Parsing or scoring this output raised (a bug in the harness); ``ParseResult.detail`` says
+    what. The output counts as having no plan."""
     # Step level (ParsedStep.errors).
     NOT_AN_OBJECT = "not_an_object"
     """The array element is not a JSON object. Step invalid."""
@@ -70,6 +75,9 @@ class Repair(StrEnum):
     """Joined several top-level step objects (JSON lines) into one plan."""
     UNWRAP = "unwrap"
     """Unwrapped ``{"plan": [...]}``-style wrappers, a nested list, or a single step object."""
+    WINDOW = "window"
+    """The output is longer than the parser reads: only its end (then its start) was searched
+    (``MAX_SEARCH_CHARS``)."""
 
 
 class ParsedStep(Frozen):
@@ -116,10 +124,11 @@ class ParseResult(Frozen):
     steps: tuple[ParsedStep, ...] = Field(default=(), description="All steps, in array order.")
     errors: tuple[ParseCode, ...] = Field(default=(), description="Plan-level codes.")
     repairs: tuple[Repair, ...] = Field(default=(), description="Repairs applied, in order.")
-    reasoning: str | None = Field(
+    reasoning: Utf8Str | None = Field(
         default=None,
         description="The reasoning block of output in the model's documented answer format.",
     )
+    detail: Utf8Str | None = Field(default=None, description="What raised (code ``error`` only).")
 
     @property
     def n_steps(self) -> int:

@@ -12,6 +12,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from vlm_bench.types.base import Utf8Str
 from vlm_bench.types.execution import ExecutionSummary
 from vlm_bench.types.parse import ParseResult
 from vlm_bench.types.scores import PlanScores
@@ -22,7 +23,8 @@ RECORD_SCHEMA_VERSION = 2
 
 RecordStatus = Literal["ok", "error"]
 """``ok``: the model answered and the answer was scored (whatever its quality);
-``error``: the backend failed to answer (server error, timeout); a resume retries it."""
+``error``: the episode has no result yet: the backend failed to answer (server error, timeout)
+or the infrastructure lost its replay (a dead worker or node); a resume retries it."""
 
 TIMING_FIELDS = frozenset({"latency_s", "batch_latency_s", "created"})
 """Fields that differ between two otherwise identical runs (and ``execution.wall_time_s``)."""
@@ -62,7 +64,9 @@ class EpisodeRecord(Tolerant):
     first_target_visible: bool | None = Field(
         default=None, description="The first ARM step's object is in the uav view at the start."
     )
-    raw_output: str = Field(default="", description="The model's text, verbatim.")
+    raw_output: Utf8Str = Field(
+        default="", description="The model's text, verbatim (lone surrogates: U+FFFD)."
+    )
     parse: ParseResult | None = Field(default=None, description="Parser result (None on error).")
     plan: list[dict[str, Any]] | None = Field(
         default=None, description="Valid predicted steps in the paper's JSON format."
@@ -87,7 +91,9 @@ class EpisodeRecord(Tolerant):
     execution: ExecutionSummary | None = Field(
         default=None, description="Outcome of replaying the plan (None: not executed)."
     )
-    backend_error: str | None = Field(default=None, description="Backend failure, if any.")
+    backend_error: Utf8Str | None = Field(
+        default=None, description="Why an error record has no result (backend, lost replay)."
+    )
     status: RecordStatus = Field(description="ok or error (see RecordStatus).")
     created: datetime = Field(default_factory=utc_now, description="When it was written (UTC).")
 
@@ -127,7 +133,7 @@ class CachedResponse(Tolerant):
 
     key: str = Field(description="Episode key task_id/seed/variant.")
     prompt_hash: str = Field(description="Hash of the prompt that produced the answer.")
-    text: str = Field(description="The model's text, verbatim.")
+    text: Utf8Str = Field(description="The model's text, verbatim (lone surrogates: U+FFFD).")
     latency_s: float = Field(
         default=0.0, ge=0, description="This answer's share of its batch's backend time (s)."
     )

@@ -2,10 +2,11 @@
 
 A run folder is identified by its :class:`RunConfig`; :meth:`RunConfig.config_hash` covers every
 field that changes an episode's result or the set of episodes. It leaves out what only changes
-how fast results arrive (``generation.batch_size`` and operational backend arguments such as
-``concurrency`` or ``timeout``) and secrets (backend arguments whose name contains ``key``,
-``token``, ``secret`` or ``password``, which are also redacted in the saved manifest), so a run can
-be resumed with a different batch size or a fresh API key.
+how fast results arrive (``generation.batch_size`` and the backend arguments its backend declares
+operational, such as ``concurrency`` or ``timeout_s``: passed in as ``operational``, see
+``vlm_bench.backends.operational_args``) and secrets (backend arguments whose name contains
+``key``, ``token``, ``secret`` or ``password``, which are also redacted in the saved manifest), so a
+run can be resumed with a different batch size, a longer timeout or a fresh API key.
 
 Fields added after the first release (:data:`FIELDS_ADDED_LATER`) enter the hash only when set
 off their default, so configurations that could be written before they existed keep their hash
@@ -21,6 +22,7 @@ import hashlib
 import json
 import math
 import re
+from collections.abc import Collection
 from datetime import datetime
 from typing import Any
 
@@ -43,21 +45,6 @@ from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
 RUN_SCHEMA_VERSION = 1
 """Version of the manifest layout written by this release."""
-
-OPERATIONAL_BACKEND_ARGS = frozenset(
-    {
-        "concurrency",
-        "timeout",
-        "max_retries",
-        "retries",
-        "workers",
-        "device",
-        "device_map",
-        "check_server",
-        "check_timeout_s",
-    }
-)
-"""Backend arguments that change speed or placement, never results (left out of the hash)."""
 
 FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0, "images": True, "scene_as_text": False}
 """Fields added after the first release, with their defaults (hashed only when different)."""
@@ -189,13 +176,17 @@ class RunConfig(FiniteFrozen):
             instruction=variant,
         )
 
-    def hashed_fields(self) -> dict[str, Any]:
-        """The JSON payload :meth:`config_hash` covers (see the module docstring)."""
+    def hashed_fields(self, operational: Collection[str] = ()) -> dict[str, Any]:
+        """The JSON payload :meth:`config_hash` covers (see the module docstring).
+
+        Args:
+            operational: The backend's operational argument names (left out).
+        """
         data = self.model_dump(mode="json")
         data["backend_args"] = {
             k: v
             for k, v in sorted(self.backend_args.items())
-            if not is_secret_arg(k) and k not in OPERATIONAL_BACKEND_ARGS
+            if not is_secret_arg(k) and k not in operational
         }
         data["generation"].pop("batch_size", None)
         for name, default in GENERATION_FIELDS_ADDED_LATER.items():
@@ -211,14 +202,15 @@ class RunConfig(FiniteFrozen):
             del data["benchmark_version"]
         return data
 
-    def config_hash(self) -> str:
+    def config_hash(self, operational: Collection[str] = ()) -> str:
         """sha256 (hex) of :meth:`hashed_fields` as canonical JSON."""
-        text = json.dumps(self.hashed_fields(), sort_keys=True, separators=(",", ":"))
+        fields = self.hashed_fields(operational)
+        text = json.dumps(fields, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()
 
-    def short_hash(self) -> str:
+    def short_hash(self, operational: Collection[str] = ()) -> str:
         """First 8 hex digits of :meth:`config_hash`, used in default run names."""
-        return self.config_hash()[:8]
+        return self.config_hash(operational)[:8]
 
     def redacted(self) -> RunConfig:
         """A copy whose secret backend arguments are replaced by ``***`` (for the manifest)."""
@@ -226,9 +218,11 @@ class RunConfig(FiniteFrozen):
         return self.model_copy(update={"backend_args": args})
 
 
-def config_differences(old: RunConfig, new: RunConfig) -> list[str]:
+def config_differences(
+    old: RunConfig, new: RunConfig, operational: Collection[str] = ()
+) -> list[str]:
     """Dotted names of the hashed fields whose values differ (``generation.max_new_tokens``)."""
-    return _diff(old.hashed_fields(), new.hashed_fields(), "")
+    return _diff(old.hashed_fields(operational), new.hashed_fields(operational), "")
 
 
 def _diff(a: Any, b: Any, prefix: str) -> list[str]:
@@ -273,6 +267,9 @@ class RunManifest(Frozen):
     run_id: str = Field(description="Run id (the run folder's name).")
     config: RunConfig = Field(description="The run's configuration (secrets redacted).")
     config_hash: str = Field(description="RunConfig.config_hash() at creation.")
+    operational_args: tuple[str, ...] = Field(
+        default=(), description="Backend arguments left out of config_hash (the backend's own)."
+    )
     backend: str = Field(description="Backend that serves the model (hf, openai, oracle, ...).")
     data: DataHashes = Field(description="Digests of prompts/, skills/, ground_truth/.")
     packages: dict[str, str] = Field(description="Versions of vlm-bench and key dependencies.")
