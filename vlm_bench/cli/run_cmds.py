@@ -11,7 +11,14 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 from rich.console import Console
 
-from vlm_bench.cli.options import finite, parse_seed, parse_seeds, parse_suite, parse_variant
+from vlm_bench.cli.options import (
+    finite,
+    parse_seed,
+    parse_seeds,
+    parse_suite,
+    parse_variant,
+    perturb_options,
+)
 from vlm_bench.errors import ConfigError, UnknownNameError
 
 if TYPE_CHECKING:
@@ -161,6 +168,22 @@ def run(
             help="Gust force std on the UAV in N during execution (the paper's UAV Disturb.)."
         ),
     ] = 0.0,
+    loop: Annotated[
+        str,
+        typer.Option(help="open: one plan per episode; closed: replan after a failed round."),
+    ] = "open",
+    max_rounds: Annotated[int, typer.Option(help="Closed loop: replans after round 0 (K).")] = 3,
+    step_budget: Annotated[
+        int | None,
+        typer.Option(help="Closed loop: steps over all rounds (default 3 x the GT plan's)."),
+    ] = None,
+    perturb: Annotated[
+        str | None,
+        typer.Option(
+            help="Seeded perturbations slip=P,bump=P,gust=N (gust = --uav-noise), in open "
+            "and closed loop alike."
+        ),
+    ] = None,
     exec_workers: ExecWorkers = None,
     exec_backend: ExecBackend = "process",
     ray_address: RayAddress = None,
@@ -176,6 +199,7 @@ def run(
 
     finite("--temperature", temperature)
     finite("--uav-noise", uav_noise)
+    perturbations, uav_noise = perturb_options(perturb, uav_noise)
     try:
         generation = GenerationConfig(
             max_new_tokens=max_new_tokens,
@@ -202,6 +226,10 @@ def run(
         generation=generation,
         execute=execute,
         uav_noise=uav_noise,
+        loop=loop,
+        max_rounds=max_rounds,
+        step_budget=step_budget,
+        perturb=perturbations,
     )
     replay = replay_options(exec_workers, exec_backend, ray_address)
     run_dir = run_dir_for(config, out, run_name)

@@ -15,6 +15,7 @@ from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
 from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.interrupt import deferred_interrupt
+from vlm_bench.runner.loop_replays import LoopReplays
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays, make_pool
@@ -122,6 +123,20 @@ def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[Snap
         source.close()
 
 
+def _replays(
+    config: RunConfig,
+    options: ReplayOptions | None,
+    on_change: Callable[[int, int, int, int], None],
+) -> Replays | LoopReplays | None:
+    """Where the run's plans execute: closed-loop episodes, or one replay per plan."""
+    if not config.execute:
+        return None
+    pool = make_pool(options or ReplayOptions())
+    if config.loop == "closed":
+        return LoopReplays(pool, config, on_change)
+    return Replays(pool, config.uav_noise, on_change, config.perturb)
+
+
 def run_benchmark(
     config: RunConfig,
     run_dir: Path,
@@ -177,11 +192,7 @@ def run_benchmark(
         RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
-        replays = (
-            Replays(make_pool(replay or ReplayOptions()), config.uav_noise, shown.replays_changed)
-            if config.execute
-            else None
-        )
+        replays = _replays(config, replay, shown.replays_changed)
         try:
             pipeline = EpisodePipeline(config, store, lazy, snapshots, shown, stop, replays)
             stats = pipeline.run(refs)

@@ -21,9 +21,10 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from vlm_bench.runner.plan_executor import PlanExecutor, crash_summary, record_plan
+from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
@@ -43,13 +44,18 @@ class ReplayJob:
     seed: int
     uav_noise: float
     steps: tuple[UavStep | ArmStep, ...]
+    perturb: PerturbConfig | None = None
 
     @property
     def key(self) -> str:
-        """Identity of the replay: episode, noise and plan."""
+        """Identity of the replay: episode, noise, perturbations and plan."""
         plan = json.dumps(plan_to_json(list(self.steps)), sort_keys=True)
-        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}:{plan}"
+        perturb = f"/{self.perturb.model_dump_json()}" if self.perturb is not None else ""
+        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}{perturb}:{plan}"
 
+
+J = TypeVar("J")
+R = TypeVar("R")
 
 Replayed = tuple[ExecutionSummary, str | None]
 """A replay's summary and, where the executor raised, the message (the summary says so too)."""
@@ -65,6 +71,11 @@ class ReplayPool(Protocol):
         """Start ``job``; its future holds the outcome."""
         ...
 
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        """Start ``fn(job)`` (a picklable module-level function); its future holds the
+        outcome (closed-loop jobs)."""
+        ...
+
     def restart(self) -> None:
         """Replace workers that died (a no-op where none can)."""
         ...
@@ -75,9 +86,9 @@ class ReplayPool(Protocol):
         ...
 
 
-_EXECUTORS: dict[float, PlanExecutor] = {}
-"""Per process (each worker's own): one executor per noise level, which keeps the compiled
-scene of the episode it last replayed."""
+_EXECUTORS: dict[tuple[float, PerturbConfig | None], PlanExecutor] = {}
+"""Per process (each worker's own): one executor per noise level and perturbation setting,
+which keeps the compiled scene of the episode it last replayed."""
 
 
 def replay(job: ReplayJob) -> Replayed:
@@ -86,9 +97,10 @@ def replay(job: ReplayJob) -> Replayed:
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
     route_mujoco_log()  # a worker writes no MUJOCO_LOG.TXT either
-    executor = _EXECUTORS.get(job.uav_noise)
+    setting = (job.uav_noise, job.perturb)
+    executor = _EXECUTORS.get(setting)
     if executor is None:
-        executor = _EXECUTORS[job.uav_noise] = PlanExecutor(job.uav_noise)
+        executor = _EXECUTORS[setting] = PlanExecutor(job.uav_noise, job.perturb)
     episode = make_episode(job.task_id, job.seed)
     return executor.run(episode, list(job.steps))
 
@@ -103,9 +115,12 @@ class InlinePool:
     workers = 1
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
-        future: Future[Replayed] = Future()
+        return self.submit_call(replay, job)
+
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        future: Future[R] = Future()
         try:
-            future.set_result(replay(job))
+            future.set_result(fn(job))
         except BaseException as exc:  # noqa: BLE001  (delivered through the future)
             future.set_exception(exc)
         return future
@@ -134,6 +149,9 @@ class ProcessPool:
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
         return self._pool.submit(replay, job)
+
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        return self._pool.submit(fn, job)
 
     def restart(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)
@@ -197,6 +215,7 @@ class Replays:
         uav_noise: Gust force std on the UAV (N) of every replay.
         on_change: Called with (submitted, finished, running, queued) after every change
             (progress displays).
+        perturb: Perturbations of every replay (None: none).
     """
 
     def __init__(
@@ -204,9 +223,11 @@ class Replays:
         pool: ReplayPool,
         uav_noise: float = 0.0,
         on_change: Callable[[int, int, int, int], None] | None = None,
+        perturb: PerturbConfig | None = None,
     ) -> None:
         self.pool = pool
         self.uav_noise = uav_noise
+        self.perturb = perturb
         self.stats = ReplayStats()
         self._notify = on_change
         self._pending: list[_Pending] = []
@@ -229,7 +250,7 @@ class Replays:
         steps = record_plan(record)
         if steps is None:
             return record.model_copy(update={"execution": None})
-        job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps))
+        job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps), self.perturb)
         future = self._futures.get(job.key)
         if future is None:
             future = self._futures[job.key] = self.pool.submit(job)

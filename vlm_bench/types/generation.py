@@ -47,6 +47,11 @@ class RequestMeta(Frozen):
         default=None, description="The GT's ARM steps alone (what the instruction asks for)."
     )
     object_ids: tuple[str, ...] = Field(default=(), description="Ids a plan may reference.")
+    round: int = Field(default=0, ge=0, description="Closed loop: the round (0 = first plan).")
+    done_steps: tuple[PlanStep, ...] = Field(
+        default=(), description="Closed loop: the steps executed with success so far, in order."
+    )
+    held: str | None = Field(default=None, description="Closed loop: what the gripper holds.")
 
 
 class GenerationRequest(Frozen):

@@ -32,6 +32,7 @@ from pydantic import (
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.base import FiniteFrozen, Frozen
+from vlm_bench.types.closed_loop import LoopConfig, LoopMode, PerturbConfig
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
 from vlm_bench.types.scores import ScoringConfig
@@ -55,7 +56,15 @@ OPERATIONAL_BACKEND_ARGS = frozenset(
 )
 """Backend arguments that change speed or placement, never results (left out of the hash)."""
 
-FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0, "images": True, "scene_as_text": False}
+FIELDS_ADDED_LATER: dict[str, Any] = {
+    "uav_noise": 0.0,
+    "images": True,
+    "scene_as_text": False,
+    "loop": "open",
+    "max_rounds": 3,
+    "step_budget": None,
+    "perturb": None,
+}
 """Fields added after the first release, with their defaults (hashed only when different)."""
 
 GENERATION_FIELDS_ADDED_LATER: dict[str, Any] = {"top_k": 0, "repetition_penalty": 1.0}
@@ -129,6 +138,16 @@ class RunConfig(FiniteFrozen):
     uav_noise: float = Field(
         default=0.0, ge=0, description="Gust force std on the UAV (N) during execution."
     )
+    loop: LoopMode = Field(
+        default="open", description="open: one plan; closed: replan after a failed round."
+    )
+    max_rounds: int = Field(default=3, ge=1, le=20, description="Closed loop: replans (K).")
+    step_budget: int | None = Field(
+        default=None, ge=1, description="Closed loop: steps over all rounds (None: 3 x GT)."
+    )
+    perturb: PerturbConfig | None = Field(
+        default=None, description="Seeded slips and bumps during execution (None: none)."
+    )
 
     @field_validator("seeds")
     @classmethod
@@ -167,6 +186,20 @@ class RunConfig(FiniteFrozen):
         if self.uav_noise > 0 and not self.execute:
             raise ValueError("uav_noise > 0 needs execute (gusts act only while plans execute)")
         return self
+
+    @model_validator(mode="after")
+    def _loop_options(self) -> RunConfig:
+        if self.loop == "closed" and not self.execute:
+            raise ValueError("loop closed needs execute (a replan starts where execution failed)")
+        if self.perturb is not None and not self.execute:
+            raise ValueError("perturb needs execute (perturbations act while plans execute)")
+        if self.loop == "open" and (self.max_rounds != 3 or self.step_budget is not None):
+            raise ValueError("max_rounds and step_budget need loop closed")
+        return self
+
+    def loop_config(self) -> LoopConfig:
+        """The closed loop's settings."""
+        return LoopConfig(max_rounds=self.max_rounds, step_budget=self.step_budget)
 
     def prompt_config(self, variant: InstructionVariant) -> PromptConfig:
         """The prompt options of one instruction variant."""
