@@ -12,6 +12,7 @@ an answer holds no plan; its record is round 0's with ``rounds`` and ``loop`` ad
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
@@ -25,7 +26,13 @@ from vlm_bench.runner.replays import ReplayPool, ReplayStats
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary
-from vlm_bench.types.generation import GenerationRequest, RequestMeta
+from vlm_bench.types.generation import (
+    GenerationRequest,
+    ImagePart,
+    RequestMeta,
+    TextPart,
+    Turn,
+)
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.rounds import LoopEnd, LoopOutcome, RoundRecord
@@ -49,6 +56,8 @@ class _Live:
     episode: Episode
     first: EpisodeRecord
     budget: int
+    turns: list[tuple[GenerationRequest | None, str, str]] = field(default_factory=list)
+    """Each answered round: its request (None where not given), answer text, cache key."""
     plans: list[Steps] = field(default_factory=list)
     rounds: list[RoundRecord] = field(default_factory=list)
     executed: list[ExecutedStep] = field(default_factory=list)
@@ -106,13 +115,17 @@ class LoopReplays:
         """Episodes not finished (executing, or waiting for a replan)."""
         return len(self._live)
 
-    def submit(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord | None:
-        """Start an episode from round 0's record; the finished record where it has no plan
-        to execute, else None (it comes back from :meth:`collect` or :meth:`answer`)."""
+    def submit(
+        self, episode: Episode, record: EpisodeRecord, request: GenerationRequest | None = None
+    ) -> EpisodeRecord | None:
+        """Start an episode from round 0's record (and its request, the first turn of a
+        replan's conversation); the finished record where it has no plan to execute, else
+        None (it comes back from :meth:`collect` or :meth:`answer`)."""
         self.stats.submitted += 1
         steps = record_plan(record)
         budget = self.config.loop_config().budget(len(episode.gt_plan))
         live = _Live(episode, record.model_copy(update={"execution": None}), budget)
+        live.turns.append((self._kept(request), record.raw_output, record.prompt_hash))
         if steps is None:
             self.stats.finished += 1
             return self._finish(live, "no_plan")
@@ -148,6 +161,7 @@ class LoopReplays:
             cached=cached,
         )
         live.rounds.append(row)
+        live.turns.append((self._kept(ask.request), response.text, ask.prompt_hash))
         if not steps:
             return self._finish(live, "no_plan")
         live.plans.append(steps[:left])
@@ -270,9 +284,40 @@ class LoopReplays:
         request = prompt.to_request(
             round_request_id(key, feedback.round), episode_id=key, meta=meta, json_schema=schema
         )
+        request = request.model_copy(update={"history": self._history(live)})
         live.feedback = feedback
-        live.ask = Ask(key, prompt.prompt_hash, request)
+        live.ask = Ask(key, self._chain_hash(live, prompt.prompt_hash), request)
         self._asks.append(live.ask)
+
+    def _kept(self, request: GenerationRequest | None) -> GenerationRequest | None:
+        """What a later round's conversation needs of ``request``: its user turn, each image
+        replaced by a note unless ``history=images`` (only the current views are shown)."""
+        if request is None:
+            return None
+        user = tuple(
+            TextPart(text=f"[{p.view} view of that moment, not shown again]")
+            if isinstance(p, ImagePart) and self.config.history == "text"
+            else p
+            for p in request.user
+        )
+        return request.model_copy(update={"user": user, "history": ()})
+
+    def _history(self, live: _Live) -> tuple[Turn, ...]:
+        """The earlier rounds as turns: each request's user turn and the model's answer."""
+        turns: list[Turn] = []
+        for request, answer, _ in live.turns:
+            if request is not None:
+                turns.append(Turn(role="user", content=request.user))
+            turns.append(Turn(role="assistant", content=(TextPart(text=answer),)))
+        return tuple(turns)
+
+    def _chain_hash(self, live: _Live, prompt_hash: str) -> str:
+        """A replan's cache key: its prompt, the conversation before it (every earlier
+        round's key and answer) and how that conversation is shown."""
+        digest = hashlib.sha256(f"{prompt_hash}|history={self.config.history}".encode())
+        for _, answer, key in live.turns:
+            digest.update(f"|{key}|".encode() + hashlib.sha256(answer.encode()).digest())
+        return digest.hexdigest()
 
     def _finish(self, live: _Live, end: LoopEnd) -> EpisodeRecord:
         self._live.pop(live.first.key, None)

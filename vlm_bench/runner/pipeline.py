@@ -288,7 +288,11 @@ class EpisodePipeline:
                 self.stats.scored += 1
                 if self.replays is not None:
                     self.stop.check()
-                    finished = self.replays.submit(p.episode, record)
+                    finished = (
+                        self.replays.submit(p.episode, record, p.request)
+                        if isinstance(self.replays, LoopReplays)
+                        else self.replays.submit(p.episode, record)
+                    )
                     if finished is None:
                         continue  # written when its replay finishes
                     record = finished

@@ -20,6 +20,10 @@ from vlm_bench.types.plan import PlanStep
 LoopMode = Literal["open", "closed"]
 """``open``: one plan per episode (the paper's protocol); ``closed``: replan after failures."""
 
+HistoryMode = Literal["text", "images"]
+"""How a multi-turn replan shows earlier rounds: their text only (the current views alone as
+images), or their views too."""
+
 PerturbKind = Literal["slip", "bump"]
 
 

@@ -32,7 +32,7 @@ from pydantic import (
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.base import FiniteFrozen, Frozen
-from vlm_bench.types.closed_loop import LoopConfig, LoopMode, PerturbConfig
+from vlm_bench.types.closed_loop import HistoryMode, LoopConfig, LoopMode, PerturbConfig
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
 from vlm_bench.types.scores import ScoringConfig
@@ -64,6 +64,7 @@ FIELDS_ADDED_LATER: dict[str, Any] = {
     "max_rounds": 3,
     "step_budget": None,
     "perturb": None,
+    "history": "text",
 }
 """Fields added after the first release, with their defaults (hashed only when different)."""
 
@@ -148,6 +149,11 @@ class RunConfig(FiniteFrozen):
     perturb: PerturbConfig | None = Field(
         default=None, description="Seeded slips and bumps during execution (None: none)."
     )
+    history: HistoryMode = Field(
+        default="text",
+        description="Closed loop: earlier rounds as text with only the current views, or "
+        "with every round's views (images).",
+    )
 
     @field_validator("seeds")
     @classmethod
@@ -193,8 +199,10 @@ class RunConfig(FiniteFrozen):
             raise ValueError("loop closed needs execute (a replan starts where execution failed)")
         if self.perturb is not None and not self.execute:
             raise ValueError("perturb needs execute (perturbations act while plans execute)")
-        if self.loop == "open" and (self.max_rounds != 3 or self.step_budget is not None):
-            raise ValueError("max_rounds and step_budget need loop closed")
+        if self.loop == "open" and (
+            self.max_rounds != 3 or self.step_budget is not None or self.history != "text"
+        ):
+            raise ValueError("max_rounds, step_budget and history need loop closed")
         return self
 
     def loop_config(self) -> LoopConfig:
