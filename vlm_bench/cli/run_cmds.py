@@ -177,6 +177,13 @@ def run(
         int | None,
         typer.Option(help="Closed loop: steps over all rounds (default 3 x the GT plan's)."),
     ] = None,
+    history: Annotated[
+        str,
+        typer.Option(
+            help="Closed loop, multi-turn backends: earlier rounds as text (only the current "
+            "views as images) or with their views (images)."
+        ),
+    ] = "text",
     perturb: Annotated[
         str | None,
         typer.Option(
@@ -229,6 +236,7 @@ def run(
         loop=loop,
         max_rounds=max_rounds,
         step_budget=step_budget,
+        history=history,
         perturb=perturbations,
     )
     replay = replay_options(exec_workers, exec_backend, ray_address)
