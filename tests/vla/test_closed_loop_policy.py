@@ -35,6 +35,4 @@ def test_a_policy_timeout_triggers_a_replan_from_where_it_stopped() -> None:
     # the second round continued the simulation: the UAV is where the hop left it
     z0 = result.results[0].final_uav_pose.pos[2]
     assert result.results[1].final_uav_pose.pos[2] > z0 + 0.05
-    assert (
-        seen[1][0].uav_start.pos[2] == round(z0, 4) or abs(seen[1][0].uav_start.pos[2] - z0) < 0.01
-    )
+    assert abs(seen[1][0].uav_start.pos[2] - z0) < 0.01  # the planner saw the state now
