@@ -3,6 +3,11 @@ the state it left with the failure in its feedback, in the same simulation."""
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
+import pytest
+
 from vlm_bench.episodes import make_episode
 from vlm_bench.types.closed_loop import Feedback
 from vlm_bench.types.episode import Episode
@@ -36,3 +41,16 @@ def test_a_policy_timeout_triggers_a_replan_from_where_it_stopped() -> None:
     z0 = result.results[0].final_uav_pose.pos[2]
     assert result.results[1].final_uav_pose.pos[2] > z0 + 0.05
     assert abs(seen[1][0].uav_start.pos[2] - z0) < 0.01  # the planner saw the state now
+
+
+def test_the_documented_closed_loop_example_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    docs = Path(__file__).resolve().parents[2] / "docs" / "hierarchical.md"
+    text = docs.read_text()
+    policy = re.findall(r"```python\n(.*?)```", text, re.S)[0]
+    (loop,) = re.findall(r"```py\n(.*?)```", text, re.S)
+    namespace: dict[str, object] = {"__name__": "docs_example"}
+    exec(compile(policy, str(docs), "exec"), namespace)
+    exec(compile(loop, str(docs), "exec"), namespace)
+    out = capsys.readouterr().out
+    assert "replan after [('UAV', 'done', None), ('ARM', 'failed', 'policy_timeout')]" in out
+    assert "None ['policy_timeout']" in out
