@@ -12,7 +12,6 @@ an answer holds no plan; its record is round 0's with ``rounds`` and ``loop`` ad
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
@@ -21,6 +20,14 @@ from vlm_bench.backends.builtin import round_request_id
 from vlm_bench.parsing import parse_plan, plan_json_schema
 from vlm_bench.prompting import build_replan_prompt
 from vlm_bench.runner.loop_jobs import LoopJob, RoundsReplayed, StateRequest, replay_rounds
+from vlm_bench.runner.loop_rounds import (
+    Turns,
+    chain_hash,
+    history_turns,
+    kept_request,
+    loop_outcome,
+    ran_steps,
+)
 from vlm_bench.runner.plan_executor import crash_summary, record_plan
 from vlm_bench.runner.replays import ReplayPool, ReplayStats
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
@@ -28,14 +35,11 @@ from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary
 from vlm_bench.types.generation import (
     GenerationRequest,
-    ImagePart,
     RequestMeta,
-    TextPart,
-    Turn,
 )
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
-from vlm_bench.types.rounds import LoopEnd, LoopOutcome, RoundRecord
+from vlm_bench.types.rounds import LoopEnd, RoundRecord
 from vlm_bench.types.run import RunConfig
 
 Steps = tuple[UavStep | ArmStep, ...]
@@ -56,7 +60,7 @@ class _Live:
     episode: Episode
     first: EpisodeRecord
     budget: int
-    turns: list[tuple[GenerationRequest | None, str, str]] = field(default_factory=list)
+    turns: Turns = field(default_factory=list)
     """Each answered round: its request (None where not given), answer text, cache key."""
     plans: list[Steps] = field(default_factory=list)
     rounds: list[RoundRecord] = field(default_factory=list)
@@ -69,21 +73,6 @@ class _Live:
 
     def steps_used(self) -> int:
         return len(self.executed)
-
-
-def _ran(plan: Steps, summary: ExecutionSummary) -> list[ExecutedStep]:
-    """The steps of ``plan`` that ran: the done ones, then the failed one (if a step failed)."""
-    done = [ExecutedStep(step=s, status="done") for s in plan[: summary.n_steps_done]]
-    if summary.steps_ok or summary.n_steps_done >= len(plan):
-        return done
-    detail = summary.failure_reason or ""
-    if detail.startswith("step ") and ": " in detail:
-        detail = detail.split(": ", 1)[1]
-    code = str(summary.failure_code) if summary.failure_code is not None else None
-    failed = ExecutedStep(
-        step=plan[summary.n_steps_done], status="failed", code=code, detail=detail
-    )
-    return [*done, failed]
 
 
 class LoopReplays:
@@ -125,7 +114,9 @@ class LoopReplays:
         steps = record_plan(record)
         budget = self.config.loop_config().budget(len(episode.gt_plan))
         live = _Live(episode, record.model_copy(update={"execution": None}), budget)
-        live.turns.append((self._kept(request), record.raw_output, record.prompt_hash))
+        live.turns.append(
+            (kept_request(request, self.config.history), record.raw_output, record.prompt_hash)
+        )
         if steps is None:
             self.stats.finished += 1
             return self._finish(live, "no_plan")
@@ -161,7 +152,9 @@ class LoopReplays:
             cached=cached,
         )
         live.rounds.append(row)
-        live.turns.append((self._kept(ask.request), response.text, ask.prompt_hash))
+        live.turns.append(
+            (kept_request(ask.request, self.config.history), response.text, ask.prompt_hash)
+        )
         if not steps:
             return self._finish(live, "no_plan")
         live.plans.append(steps[:left])
@@ -245,7 +238,7 @@ class LoopReplays:
             live.rounds[-1] = live.rounds[-1].model_copy(update={"execution": summary})
         else:
             live.first = live.first.model_copy(update={"execution": summary})
-        live.executed.extend(_ran(live.plans[-1], summary))
+        live.executed.extend(ran_steps(live.plans[-1], summary))
         if summary.exec_success:
             return self._finish(live, "success")
         if len(live.plans) > self.config.max_rounds:
@@ -284,57 +277,16 @@ class LoopReplays:
         request = prompt.to_request(
             round_request_id(key, feedback.round), episode_id=key, meta=meta, json_schema=schema
         )
-        request = request.model_copy(update={"history": self._history(live)})
+        request = request.model_copy(update={"history": history_turns(live.turns)})
         live.feedback = feedback
-        live.ask = Ask(key, self._chain_hash(live, prompt.prompt_hash), request)
+        key_hash = chain_hash(prompt.prompt_hash, live.turns, self.config.history)
+        live.ask = Ask(key, key_hash, request)
         self._asks.append(live.ask)
-
-    def _kept(self, request: GenerationRequest | None) -> GenerationRequest | None:
-        """What a later round's conversation needs of ``request``: its user turn, each image
-        replaced by a note unless ``history=images`` (only the current views are shown)."""
-        if request is None:
-            return None
-        user = tuple(
-            TextPart(text=f"[{p.view} view of that moment, not shown again]")
-            if isinstance(p, ImagePart) and self.config.history == "text"
-            else p
-            for p in request.user
-        )
-        return request.model_copy(update={"user": user, "history": ()})
-
-    def _history(self, live: _Live) -> tuple[Turn, ...]:
-        """The earlier rounds as turns: each request's user turn and the model's answer."""
-        turns: list[Turn] = []
-        for request, answer, _ in live.turns:
-            if request is not None:
-                turns.append(Turn(role="user", content=request.user))
-            turns.append(Turn(role="assistant", content=(TextPart(text=answer),)))
-        return tuple(turns)
-
-    def _chain_hash(self, live: _Live, prompt_hash: str) -> str:
-        """A replan's cache key: its prompt, the conversation before it (every earlier
-        round's key and answer) and how that conversation is shown."""
-        digest = hashlib.sha256(f"{prompt_hash}|history={self.config.history}".encode())
-        for _, answer, key in live.turns:
-            digest.update(f"|{key}|".encode() + hashlib.sha256(answer.encode()).digest())
-        return digest.hexdigest()
 
     def _finish(self, live: _Live, end: LoopEnd) -> EpisodeRecord:
         self._live.pop(live.first.key, None)
-        executions = live.executions()
-        won = next((i for i, e in enumerate(executions) if e is not None and e.exec_success), None)
-        k = self.config.max_rounds
-        outcome = LoopOutcome(
-            succ_at=tuple(won is not None and won <= i for i in range(k + 1)),
-            rounds_used=len(executions),
-            recovered=won is not None and won > 0,
-            failure_codes=tuple(
-                "no_plan" if e is None else (str(e.failure_code) if e.failure_code else None)
-                for e in executions
-            ),
-            steps_executed=live.steps_used(),
-            budget=live.budget,
-            end=end,
+        outcome = loop_outcome(
+            live.executions(), end, self.config.max_rounds, live.steps_used(), live.budget
         )
         self._changed()
         return live.first.model_copy(update={"rounds": tuple(live.rounds), "loop": outcome})
