@@ -106,6 +106,8 @@ def test_a_resume_answers_every_round_from_the_cache(tmp_path: Path) -> None:
     got = record.without_timing()
     want_record = EpisodeRecord.model_validate(want).without_timing()
     assert got == want_record
+    with pytest.raises(ConfigError, match="rescore covers open-loop runs"):
+        api.rescore(run_dir)
 
 
 def test_a_failed_replan_writes_an_error_record_that_a_resume_retries(tmp_path: Path) -> None:
