@@ -81,3 +81,15 @@ def test_no_bump_at_zero_probability_and_fixed_objects_stay() -> None:
     quiet = Perturber(PerturbConfig(slip=0.5), episode)
     quiet.before_arm_step(live.loop, 0, ArmStep(object="gray_cube", skill="pick"))
     assert quiet.events == []
+
+
+def test_a_slip_drops_the_held_object_once_and_place_fails() -> None:
+    episode = make_episode("place_on_flat_surface", 0)  # a flight with the object in hand
+    live = LiveEpisode(episode, perturb=PerturbConfig(slip=1.0))
+    plan = [*episode.gt_plan[:-1], UavStep(direction=Direction.UP, distance=0.1)]
+    result = live.execute([*plan, episode.gt_plan[-1]])  # two flights with it "in hand"
+    (event,) = result.perturbations or ()
+    assert event.kind == "slip" and result.failure_code == "slipped"
+    assert live.held is None
+    again = live.execute([UavStep(direction=Direction.UP, distance=0.1)])
+    assert again.perturbations == ()  # nothing in the hand: nothing more to drop

@@ -63,8 +63,8 @@ class Perturber:
     def flight_started(self, loop: SimLoop, index: int) -> None:
         """A UAV move starts: draw whether (and when) the held object drops."""
         self._drop_at = None
-        if loop.held is None or self.config.slip <= 0:
-            return
+        if loop.held is None or self.config.slip <= 0 or _fingers_open(loop):
+            return  # nothing in the hand (a dropped object is gone until picked again)
         fires, at = self._slip.random() < self.config.slip, self._slip.uniform(*SLIP_WINDOW_S)
         if fires:
             self._drop_at, self._flight_start, self._step = loop.time + at, loop.time, index
@@ -109,6 +109,11 @@ class Perturber:
     def _bumpable(self, loop: SimLoop, name: str) -> bool:
         obj = next((o for o in self.episode.objects if o.id == name), None)
         return obj is not None and object_kind(obj.kind).movable and loop.held != name
+
+
+def _fingers_open(loop: SimLoop) -> bool:
+    """Whether the gripper is commanded open (after a drop, before the next grasp)."""
+    return float(loop.data.ctrl[loop.model.actuator(GRIPPER_ACTUATOR).id]) >= GRIPPER_OPEN
 
 
 def _free_qpos(model: mujoco.MjModel, body: str) -> int | None:
