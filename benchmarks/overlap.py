@@ -15,8 +15,9 @@ picture):
 Overlap is perfect when *both* takes max(generation, execution); serial replays take their sum.
 All runs of one invocation are measured on the same machine state; the ratios are what to quote.
 
-``--closed``: closed-loop runs of the ``rules`` planner (scene as text) with ``--perturb``, so
-that rounds fail and replans interleave with other episodes' executions. A closed loop cannot
+``--closed``: closed-loop runs of the ``rules`` planner (scene as text) with ``--perturb`` on
+tasks that fly with an object in the hand, so that rounds fail and replans interleave with
+other episodes' executions. A closed loop cannot
 generate without executing, so *generation* is the batches the *both* run asked for times the
 latency.
 """
@@ -52,6 +53,16 @@ FAST_TASKS = (
     "assembly_camera_on_lidar",
     "spatial_ref_top_drawer",
 )
+
+CARRY_TASKS = (
+    "place_on_flat_surface",
+    "deformable_object_banana",
+    "tool_manipulation_mug",
+    "cylinder_manipulation",
+    "variant_banana_in_box",
+    "variant_meat_can_in_box",
+)
+"""Tasks whose GT flies with an object in the hand (slips happen there: closed loop)."""
 
 
 class SlowOracle(OracleBackend):
@@ -177,7 +188,7 @@ def main() -> None:
 
 def closed_loop(args: argparse.Namespace) -> None:
     """The closed-loop table: generation = the both run's batches x latency (module doc)."""
-    tasks = FAST_TASKS[: args.tasks]
+    tasks = CARRY_TASKS[: args.tasks]
     print(machine())
     n = len(tasks) * args.seeds
     print(f"{n} closed-loop episodes, --perturb {args.perturb}, batch {args.batch_size}, ")
