@@ -4,19 +4,28 @@ keep every round, the cache answers per round, and open-loop runs do not change.
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 import vlm_bench.api as api
 from vlm_bench.backends import Backend
+from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
+from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
+from vlm_bench.runner.loop_replays import LoopReplays
+from vlm_bench.runner.replays import MAX_ATTEMPTS, WORKER_DIED
 from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
+from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
-from vlm_bench.types.records import EpisodeRecord
+from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig, run_config
+from vlm_bench.types.scores import ScoringConfig
 
 TASK = "standard_pick_place"
 HOP = json.dumps([{"subtask": 0, "tasktype": "UAV", "direction": "up", "distance": 0.1}])
@@ -146,3 +155,50 @@ def test_perturb_option_parsing() -> None:
     for bad in ("slip=2", "wind=1", "slip", "bump=x", "gust=-1"):
         with pytest.raises(ConfigError, match="--perturb"):
             parse_perturb(bad)
+
+
+class _FlakyPool:
+    """Runs jobs inline; the first ``breaks`` fail as if their worker process died."""
+
+    workers = 1
+
+    def __init__(self, breaks: int) -> None:
+        self.breaks = breaks
+        self.restarts = 0
+
+    def submit_call(self, fn: Callable[[Any], Any], job: Any) -> Future[Any]:
+        future: Future[Any] = Future()
+        if self.breaks > 0:
+            self.breaks -= 1
+            future.set_exception(BrokenProcessPool("a worker died"))
+        else:
+            future.set_result(fn(job))
+        return future
+
+    def restart(self) -> None:
+        self.restarts += 1
+
+    def close(self, cancel: bool = False) -> None:
+        return None
+
+
+def _hop_record() -> tuple[Episode, EpisodeRecord]:
+    episode = make_episode(TASK, 0)
+    info = EpisodeInfo("run", f"{TASK}/0/explicit", "explicit", "hopper", "h")
+    response = CachedResponse(key=info.key, prompt_hash="h", text=HOP)
+    return episode, scored_record(info, episode, response, ScoringConfig())
+
+
+def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
+    episode, record = _hop_record()
+    pool = _FlakyPool(breaks=1)
+    loops = LoopReplays(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
+    assert loops.submit(episode, record) is None
+    assert list(loops.drain()) == []  # round 0 failed its goals: waiting for the replan
+    assert pool.restarts == 1 and len(loops.requests()) == 1
+
+    dying = LoopReplays(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
+    dying.submit(episode, record)
+    (out,) = list(dying.drain())
+    assert out.loop is not None and out.loop.end == "executor_crash"
+    assert out.execution is not None and WORKER_DIED in (out.execution.failure_reason or "")

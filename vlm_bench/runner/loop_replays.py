@@ -29,7 +29,13 @@ from vlm_bench.runner.loop_rounds import (
     ran_steps,
 )
 from vlm_bench.runner.plan_executor import crash_summary, record_plan
-from vlm_bench.runner.replays import ReplayPool, ReplayStats
+from vlm_bench.runner.replays import (
+    MAX_ATTEMPTS,
+    WORKER_DIED,
+    ReplayPool,
+    ReplayStats,
+    broken_future,
+)
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary
@@ -97,6 +103,8 @@ class LoopReplays:
         self._live: dict[str, _Live] = {}
         self._running: dict[str, Future[RoundsReplayed]] = {}
         self._futures: dict[str, Future[RoundsReplayed]] = {}
+        self._jobs: dict[str, tuple[LoopJob, int]] = {}
+        """The job of each running episode and the pools it has broken (a worker died)."""
         self._asks: list[Ask] = []
 
     @property
@@ -185,11 +193,13 @@ class LoopReplays:
         running = self._running
         if block and running and not any(f.done() for f in running.values()):
             wait(set(running.values()), return_when=FIRST_COMPLETED)
+        self._resend_broken()
         out: list[EpisodeRecord] = []
         for key, future in list(running.items()):
             if not future.done():
                 continue
             del running[key]
+            self._jobs.pop(key, None)
             try:
                 replayed = future.result()
             except Exception as exc:  # noqa: BLE001  (a replay failure must not kill a run)
@@ -225,7 +235,33 @@ class LoopReplays:
             future = self._futures[job.key] = self.pool.submit_call(replay_rounds, job)
             self.stats.executed += 1
         self._running[key] = future
+        self._jobs[key] = (job, 1)
         self._changed()
+
+    def _resend_broken(self) -> None:
+        """A worker process died, which breaks its whole pool: start new workers and send the
+        jobs that were in flight again (one that has broken :data:`MAX_ATTEMPTS` pools ends
+        its episode as a crash)."""
+        broken = [k for k, f in self._running.items() if broken_future(f)]
+        while broken:
+            self._resend(broken)
+            broken = [k for k in broken if broken_future(self._running[k])]
+
+    def _resend(self, broken: list[str]) -> None:
+        self.pool.restart()
+        renewed: dict[str, Future[RoundsReplayed]] = {}
+        for key in broken:
+            job, attempts = self._jobs[key]
+            if attempts >= MAX_ATTEMPTS:
+                dead: Future[RoundsReplayed] = Future()
+                dead.set_exception(RuntimeError(WORKER_DIED))
+                self._running[key] = dead
+                continue
+            if job.key not in renewed:
+                renewed[job.key] = self.pool.submit_call(replay_rounds, job)
+                self._futures[job.key] = renewed[job.key]
+            self._running[key] = renewed[job.key]
+            self._jobs[key] = (job, attempts + 1)
 
     def _advance(self, key: str, replayed: RoundsReplayed) -> EpisodeRecord | None:
         live = self._live[key]
@@ -238,7 +274,8 @@ class LoopReplays:
             live.rounds[-1] = live.rounds[-1].model_copy(update={"execution": summary})
         else:
             live.first = live.first.model_copy(update={"execution": summary})
-        live.executed.extend(ran_steps(live.plans[-1], summary))
+        if replayed.crash is None:
+            live.executed.extend(ran_steps(live.plans[-1], summary))
         if summary.exec_success:
             return self._finish(live, "success")
         if len(live.plans) > self.config.max_rounds:

@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from typing import Protocol, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from vlm_bench.runner.plan_executor import PlanExecutor, crash_summary, record_plan
 from vlm_bench.types.closed_loop import PerturbConfig
@@ -265,10 +265,10 @@ class Replays:
         is in flight)."""
         if block and self._pending and not any(p.future.done() for p in self._pending):
             wait({p.future for p in self._pending}, return_when=FIRST_COMPLETED)
-        broken = [p for p in self._pending if _broken(p.future)]
+        broken = [p for p in self._pending if broken_future(p.future)]
         while broken:
             self._resend(broken)
-            broken = [p for p in broken if _broken(p.future)]
+            broken = [p for p in broken if broken_future(p.future)]
         done: list[_Pending] = []
         still: list[_Pending] = []
         for p in self._pending:
@@ -327,7 +327,7 @@ class Replays:
             self.stats.crash_messages.append(f"{key}: {message}")
 
 
-def _broken(future: Future[Replayed]) -> bool:
+def broken_future(future: Future[Any]) -> bool:
     """Whether ``future`` failed because its worker process died (or was dropped with it)."""
     if not future.done():
         return False
