@@ -24,7 +24,12 @@ import numpy as np
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.executor.motion.joint_moves import hold_with_gripper
 from vlm_bench.executor.sim_loop import SimLoop
-from vlm_bench.sim.constants import GRIPPER_ACTUATOR, GRIPPER_OPEN
+from vlm_bench.sim.constants import (
+    GRIPPER_ACTUATOR,
+    GRIPPER_OPEN,
+    LEFT_FINGER_BODY,
+    RIGHT_FINGER_BODY,
+)
 from vlm_bench.sim.objects.bounds import object_bounds, subtree_geoms
 from vlm_bench.types.closed_loop import PerturbConfig, PerturbEvent
 from vlm_bench.types.episode import Episode
@@ -63,7 +68,7 @@ class Perturber:
     def flight_started(self, loop: SimLoop, index: int) -> None:
         """A UAV move starts: draw whether (and when) the held object drops."""
         self._drop_at = None
-        if loop.held is None or self.config.slip <= 0 or _fingers_open(loop):
+        if loop.held is None or self.config.slip <= 0 or not _in_fingers(loop, loop.held):
             return  # nothing in the hand (a dropped object is gone until picked again)
         fires, at = self._slip.random() < self.config.slip, self._slip.uniform(*SLIP_WINDOW_S)
         if fires:
@@ -111,9 +116,19 @@ class Perturber:
         return obj is not None and object_kind(obj.kind).movable and loop.held != name
 
 
-def _fingers_open(loop: SimLoop) -> bool:
-    """Whether the gripper is commanded open (after a drop, before the next grasp)."""
-    return float(loop.data.ctrl[loop.model.actuator(GRIPPER_ACTUATOR).id]) >= GRIPPER_OPEN
+def _in_fingers(loop: SimLoop, name: str) -> bool:
+    """Whether both fingers touch ``name`` (it is in the hand, not dropped)."""
+    model = loop.model
+    held = set(subtree_geoms(model, model.body(name).id))
+    touched = set()
+    for finger in (LEFT_FINGER_BODY, RIGHT_FINGER_BODY):
+        geoms = set(subtree_geoms(model, model.body(finger).id))
+        for i in range(loop.data.ncon):
+            g1, g2 = int(loop.data.contact.geom[i][0]), int(loop.data.contact.geom[i][1])
+            if (g1 in geoms and g2 in held) or (g2 in geoms and g1 in held):
+                touched.add(finger)
+                break
+    return len(touched) == 2
 
 
 def _free_qpos(model: mujoco.MjModel, body: str) -> int | None:
