@@ -122,7 +122,9 @@ def run(
         replay: Where plans are replayed (default: one worker process per core, beside
             generation; ``ReplayOptions(workers=0)`` replays inline).
         **options: :class:`RunConfig` fields when ``config`` is None (``model="oracle"``,
-            ``execute=False`` to skip plan execution, ``uav_noise=2.0`` for gusts, ...).
+            ``execute=False`` to skip plan execution, ``uav_noise=2.0`` for gusts,
+            ``loop="closed", max_rounds=3`` to replan after failures,
+            ``perturb="slip=0.3,bump=0.3"`` (or a ``PerturbConfig``), ...).
 
     Returns:
         The folder's records and summary; ``summary.md``/``summary.csv`` are written too.
@@ -134,6 +136,12 @@ def run(
     from vlm_bench.runner import run_benchmark
 
     if config is None:
+        if isinstance(options.get("perturb"), str):
+            from vlm_bench.types.closed_loop import parse_perturb
+
+            options["perturb"], gust = parse_perturb(options["perturb"])
+            if gust:
+                options["uav_noise"] = gust
         config = run_config(**options)
     elif options:
         raise ConfigError("give a RunConfig or keyword options, not both")

@@ -129,3 +129,34 @@ def test_vlm_bench_run_end_to_end(built: tuple[Any, Any], tmp_path: Path) -> Non
     per_view = tiny.tokens_per_view(processor, parts.image_token_id, "")
     assert len(rows) == 16
     _check_views_reach_the_model(rows, processor.tokenizer, parts.image_token_id, per_view)
+
+
+def test_a_two_round_conversation_with_images_reaches_the_model(
+    built: tuple[Any, Any], system_prompt: str
+) -> None:
+    """A closed loop's replan (``--history images``): the first user turn's four views, the
+    model's answer, then the replan's four views: eight labelled views in order, and the
+    answer's text between them."""
+    from vlm_bench.types.generation import TextPart, Turn
+
+    arch, parts = built
+    processor = parts.in_memory_processor()
+    backend = HfBackend.from_loaded(arch.name, processor, parts.model)
+    first, now = tiny.four_view_requests(system_prompt, 2)
+    answer = '[{"subtask": 0, "tasktype": "UAV", "direction": "frontleft"}]'
+    history = (
+        Turn(role="user", content=first.user),
+        Turn(role="assistant", content=(TextPart(text=answer),)),
+    )
+    replan = now.model_copy(update={"history": history})
+    with tiny.encoded_prompts() as rows:
+        (result,) = backend.generate([replan], GenerationConfig(max_new_tokens=4))
+    assert result.error is None
+    (row,) = rows
+    per_view = tiny.tokens_per_view(processor, parts.image_token_id, system_prompt)
+    (seen,) = tiny.views_reaching_the_model(rows, backend.tokenizer, parts.image_token_id)
+    assert [view for view, _ in seen] == list(tiny.VIEWS) * 2
+    assert sum(n for _, n in seen) >= 8 * min(per_view, min(n for _, n in seen))
+    runs = tiny.image_runs(row, parts.image_token_id)
+    between = backend.tokenizer.decode(row[runs[3][0] + runs[3][1] : runs[4][0]])
+    assert "frontleft" in between.replace(" ", "")

@@ -19,6 +19,7 @@ from functools import cache
 from vlm_bench.backends.builtin import PlannerBackend
 from vlm_bench.catalog.gt_episodes import load_materialised
 from vlm_bench.catalog.tasks import all_tasks
+from vlm_bench.rules import remaining_arm_steps
 from vlm_bench.types.generation import GenerationRequest
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
@@ -75,12 +76,13 @@ def guess_moves(seen: Sequence[Moves]) -> list[Direction]:
 
 
 def blind_plan(
-    task_id: str, seed: int | None, arm_steps: Sequence[ArmStep]
+    task_id: str, seed: int | None, arm_steps: Sequence[ArmStep], first: int = 0
 ) -> list[UavStep | ArmStep]:
-    """The blind plan of one episode (see module doc)."""
+    """The blind plan of one episode (see module doc); ``first``: the GT index of the first
+    of ``arm_steps`` (a replan's rest)."""
     table = segment_table()
     plan: list[UavStep | ArmStep] = []
-    for k, step in enumerate(arm_steps):
+    for k, step in enumerate(arm_steps, start=first):
         by_seed = table.get((task_id, k), {})
         seen = [m for s, m in sorted(by_seed.items()) if s != seed]
         if not seen:
@@ -96,8 +98,12 @@ class BlindBackend(PlannerBackend):
     name = "blind"
 
     def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
-        """The blind plan from ``meta.task_id``, ``meta.seed`` and ``meta.arm_steps``."""
+        """The blind plan from ``meta.task_id``, ``meta.seed`` and ``meta.arm_steps``; in a
+        replan, of the ARM steps left (read from the feedback, never from the views)."""
         meta = request.meta
         if meta is None or meta.arm_steps is None or not meta.task_id:
             return "blind: request has no meta.task_id and meta.arm_steps"
-        return blind_plan(meta.task_id, meta.seed, meta.arm_steps)
+        if meta.round == 0:
+            return blind_plan(meta.task_id, meta.seed, meta.arm_steps)
+        first, rest = remaining_arm_steps(meta.arm_steps, meta.done_steps, meta.held)
+        return blind_plan(meta.task_id, meta.seed, rest, first)

@@ -70,15 +70,17 @@ class PlannerBackend(Backend):
 
 
 class OracleBackend(PlannerBackend):
-    """Answers each request with its episode's GT plan (the ceiling: every metric is 100)."""
+    """Answers each request with its episode's GT plan (the ceiling: every metric is 100).
+    The GT is drawn for the first frame, so the oracle cannot replan: a closed loop's replan
+    gets an empty plan, which ends the episode (the open-loop reference)."""
 
     name = "oracle"
 
     def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
-        """``meta.gt_plan``."""
+        """``meta.gt_plan`` (round 0), else no steps."""
         if request.meta is None or request.meta.gt_plan is None:
             return "oracle: request has no meta.gt_plan"
-        return request.meta.gt_plan
+        return request.meta.gt_plan if request.meta.round == 0 else ()
 
 
 class RandomArgs(BackendArgs):
@@ -127,11 +129,19 @@ class RandomBackend(PlannerBackend):
         return self.random_plan(request.id, request.meta.object_ids)
 
 
+def round_request_id(key: str, round_index: int) -> str:
+    """The request id of an episode's round: the episode key for round 0 (as in an open
+    loop), ``key#r<round>`` for a replan."""
+    return key if round_index == 0 else f"{key}#r{round_index}"
+
+
 class MockArgs(BackendArgs):
     """``-M`` arguments of the mock backend: a JSONL file of scripted outputs, or one text."""
 
     file: Path | None = Field(
-        default=None, description='JSONL, one {"id": ..., "text": ...} or {"id", "error"} a line.'
+        default=None,
+        description='JSONL, one {"id": ..., "text": ...}, {"id", "error"} or, one answer per '
+        'closed-loop round, {"id", "rounds": [...]} a line.',
     )
     text: str | None = Field(default=None, description="Answer every request with this text.")
 
@@ -160,6 +170,13 @@ def _load_script(path: Path) -> dict[str, tuple[str, str | None]]:
             raise DataFileError(str(path), f"line {n}: invalid JSON: {exc.msg}") from None
         if not isinstance(row, dict) or not isinstance(row.get("id"), str):
             raise DataFileError(str(path), f"line {n}: expected an object with a string 'id'")
+        rounds = row.get("rounds")
+        if rounds is not None:
+            if not isinstance(rounds, list) or not all(isinstance(t, str) for t in rounds):
+                raise DataFileError(str(path), f"line {n}: 'rounds' must be a list of strings")
+            for r, text in enumerate(rounds):
+                script[round_request_id(row["id"], r)] = (text, None)
+            continue
         text, error = row.get("text", ""), row.get("error")
         if not isinstance(text, str) or not (error is None or isinstance(error, str)):
             raise DataFileError(str(path), f"line {n}: 'text' and 'error' must be strings")

@@ -76,24 +76,28 @@ _log = logging.getLogger(__name__)
 def hf_messages(
     request: GenerationRequest, images: Sequence[Any], *, system_role: bool = True
 ) -> list[dict[str, Any]]:
-    """Chat messages for a processor's chat template: ``{"type": "image"}`` parts in order.
+    """Chat messages for a processor's chat template: ``{"type": "image"}`` parts in order,
+    earlier turns (a closed loop's rounds) between the system message and the user turn.
 
-    ``images`` are the decoded request images (PIL), attached to their parts so templates that
-    read them (or processors that load from messages) see the same order.
+    ``images`` are the decoded request images (PIL, :meth:`GenerationRequest.images` order),
+    attached to their parts so templates that read them (or processors that load from
+    messages) see the same order.
     """
-    content: list[dict[str, Any]] = []
-    if request.system and not system_role:
-        content.append({"type": "text", "text": request.system})
     it = iter(images)
-    for part in request.user:
-        if isinstance(part, ImagePart):
-            content.append({"type": "image", "image": next(it)})
-        else:
-            content.append({"type": "text", "text": part.text})
+    turns = [(t.role, t.content) for t in request.history] + [("user", request.user)]
     messages: list[dict[str, Any]] = []
     if request.system and system_role:
         messages.append({"role": "system", "content": [{"type": "text", "text": request.system}]})
-    messages.append({"role": "user", "content": content})
+    for i, (role, parts) in enumerate(turns):
+        content: list[dict[str, Any]] = []
+        if i == 0 and request.system and not system_role:
+            content.append({"type": "text", "text": request.system})
+        for part in parts:
+            if isinstance(part, ImagePart):
+                content.append({"type": "image", "image": next(it)})
+            else:
+                content.append({"type": "text", "text": part.text})
+        messages.append({"role": role, "content": content})
     return messages
 
 

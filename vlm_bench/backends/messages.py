@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import base64
+from collections.abc import Sequence
 from typing import Any
 
-from vlm_bench.types.generation import GenerationRequest, ImagePart
+from vlm_bench.types.generation import ContentPart, GenerationRequest, ImagePart
 
 
 def data_url(png: bytes) -> str:
@@ -23,24 +24,35 @@ def _image_content(part: ImagePart, detail: str | None) -> dict[str, Any]:
 def openai_messages(
     request: GenerationRequest, *, system_role: bool = True, image_detail: str | None = None
 ) -> list[dict[str, Any]]:
-    """System and user messages with images as base64 PNG data URLs, in prompt order.
+    """System, earlier turns and user messages with images as base64 PNG data URLs, in
+    prompt order; an assistant turn is its text.
 
     Args:
         request: The request to send.
         system_role: Send the system text as a ``system`` message; when False (models whose
-            chat template rejects a system role) it opens the user turn instead.
+            chat template rejects a system role) it opens the first user turn instead.
         image_detail: Optional OpenAI ``detail`` hint (``low``/``high``/``auto``).
     """
-    content: list[dict[str, Any]] = []
-    if request.system and not system_role:
-        content.append({"type": "text", "text": request.system})
-    for part in request.user:
-        if isinstance(part, ImagePart):
-            content.append(_image_content(part, image_detail))
-        else:
-            content.append({"type": "text", "text": part.text})
+
+    def convert(parts: Sequence[ContentPart]) -> list[dict[str, Any]]:
+        return [
+            _image_content(p, image_detail)
+            if isinstance(p, ImagePart)
+            else {"type": "text", "text": p.text}
+            for p in parts
+        ]
+
+    turns = [(t.role, t.content) for t in request.history] + [("user", request.user)]
     messages: list[dict[str, Any]] = []
     if request.system and system_role:
         messages.append({"role": "system", "content": request.system})
-    messages.append({"role": "user", "content": content})
+    for i, (role, parts) in enumerate(turns):
+        if role == "assistant":
+            text = "".join(p.text for p in parts if not isinstance(p, ImagePart))
+            messages.append({"role": "assistant", "content": text})
+            continue
+        content = convert(parts)
+        if i == 0 and request.system and not system_role:
+            content.insert(0, {"type": "text", "text": request.system})
+        messages.append({"role": "user", "content": content})
     return messages

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 from vlm_bench.backends.builtin import PlannerBackend
 from vlm_bench.errors import ConfigError
-from vlm_bench.rules import parse_scene, plan_from_scene
+from vlm_bench.rules import parse_scene, plan_from_scene, remaining_arm_steps
 from vlm_bench.types.generation import GenerationRequest, TextPart
 from vlm_bench.types.plan import ArmStep, UavStep
 
@@ -34,7 +34,9 @@ class RulesBackend(PlannerBackend):
     name = "rules"
 
     def plan(self, request: GenerationRequest) -> Sequence[UavStep | ArmStep] | str:
-        """The rules' plan for the request's scene text and ``meta.arm_steps``.
+        """The rules' plan for the request's scene text and ``meta.arm_steps``; in a closed
+        loop's replan, for the ARM steps left to do (:func:`remaining_arm_steps`) from the
+        scene text of the state now, holding ``meta.held``.
 
         Raises:
             ConfigError: The request has no scene text (the run lacks ``--scene-as-text``).
@@ -44,4 +46,8 @@ class RulesBackend(PlannerBackend):
             raise ConfigError(NO_SCENE)
         if request.meta is None or request.meta.arm_steps is None:
             return "rules: request has no meta.arm_steps"
-        return plan_from_scene(entries, request.meta.arm_steps)
+        meta, arm_steps = request.meta, request.meta.arm_steps
+        if meta.round == 0:
+            return plan_from_scene(entries, arm_steps)
+        _, rest = remaining_arm_steps(arm_steps, meta.done_steps, meta.held)
+        return plan_from_scene(entries, rest, held=meta.held)

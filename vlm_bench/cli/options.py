@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 from vlm_bench.errors import ConfigError, UnknownNameError
+from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
 MAX_SEED = 2**32 - 1
@@ -129,3 +130,17 @@ def image_file(option: str, path: Path) -> None:
 
     if path.suffix.lower() not in Image.registered_extensions():
         raise ConfigError(f"{option} {path}: unknown image format {path.suffix!r}; use .png")
+
+
+def perturb_options(text: str | None, uav_noise: float) -> tuple[PerturbConfig | None, float]:
+    """``--perturb`` as perturbations, and the gust std from its ``gust`` or ``--uav-noise``.
+
+    Raises:
+        ConfigError: A bad ``--perturb``, or a ``gust`` and a different ``--uav-noise``.
+    """
+    if text is None:
+        return None, uav_noise
+    config, gust = parse_perturb(text)
+    if gust and uav_noise and gust != uav_noise:
+        raise ConfigError(f"--perturb gust={gust:g} and --uav-noise {uav_noise:g} disagree")
+    return config, gust or uav_noise

@@ -12,7 +12,14 @@ import typer
 from rich.console import Console
 
 from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
-from vlm_bench.cli.options import finite, parse_seed, parse_seeds, parse_suite, parse_variant
+from vlm_bench.cli.options import (
+    finite,
+    parse_seed,
+    parse_seeds,
+    parse_suite,
+    parse_variant,
+    perturb_options,
+)
 from vlm_bench.errors import ConfigError, UnknownNameError
 
 if TYPE_CHECKING:
@@ -206,6 +213,29 @@ def run(
             help="Gust force std on the UAV in N during execution (the paper's UAV Disturb.)."
         ),
     ] = 0.0,
+    loop: Annotated[
+        str,
+        typer.Option(help="open: one plan per episode; closed: replan after a failed round."),
+    ] = "open",
+    max_rounds: Annotated[int, typer.Option(help="Closed loop: replans after round 0 (K).")] = 3,
+    step_budget: Annotated[
+        int | None,
+        typer.Option(help="Closed loop: steps over all rounds (default 3 x the GT plan's)."),
+    ] = None,
+    history: Annotated[
+        str,
+        typer.Option(
+            help="Closed loop, multi-turn backends: earlier rounds as text (only the current "
+            "views as images) or with their views (images)."
+        ),
+    ] = "text",
+    perturb: Annotated[
+        str | None,
+        typer.Option(
+            help="Seeded perturbations slip=P,bump=P,gust=N (gust = --uav-noise), in open "
+            "and closed loop alike."
+        ),
+    ] = None,
     exec_workers: ExecWorkers = None,
     exec_backend: ExecBackend = "process",
     ray_address: RayAddress = None,
@@ -223,6 +253,7 @@ def run(
     finite("--temperature", temperature)
     finite("--uav-noise", uav_noise)
     decoding = sampling_settings(model, temperature) if sampling else {"temperature": temperature}
+    perturbations, uav_noise = perturb_options(perturb, uav_noise)
     try:
         generation = GenerationConfig(
             max_new_tokens=max_new_tokens,
@@ -249,6 +280,11 @@ def run(
         generation=generation,
         execute=execute,
         uav_noise=uav_noise,
+        loop=loop,
+        max_rounds=max_rounds,
+        step_budget=step_budget,
+        history=history,
+        perturb=perturbations,
     )
     replay = replay_options(exec_workers, exec_backend, ray_address, exec_stall_s)
     run_dir = run_dir_for(config, out, run_name)

@@ -15,11 +15,13 @@ from vlm_bench.prompting.examples import (
     find_leakage,
     select_examples,
 )
+from vlm_bench.prompting.replan import build_replan_prompt
 from vlm_bench.prompting.skills_section import skill_rows, skills_digest, step_shape
 
 __all__ = [
     "LeakageFinding",
     "build_prompt",
+    "build_replan_prompt",
     "check_no_leakage",
     "episode_key",
     "few_shot_examples",

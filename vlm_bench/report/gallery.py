@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import jinja2
 
+from vlm_bench.report.gallery_rounds import RoundCard, attach_round_views, round_cards
 from vlm_bench.report.plan_diff import DiffRow, failed_step, plan_diff
 from vlm_bench.storage import RunPaths, latest_records, read_manifest
 from vlm_bench.storage.jsonl import write_text_atomic
@@ -60,6 +61,8 @@ class Card:
     """View → image URL (file name or data URL)."""
     video: tuple[str, str] | None = None
     """(URL, MIME type)."""
+    rounds: list[RoundCard] = field(default_factory=list)
+    """A closed-loop episode's replans."""
 
     @property
     def codes(self) -> str:
@@ -130,6 +133,7 @@ def cards(records: Iterable[EpisodeRecord], manifest: RunManifest) -> list[Card]
                 execution=execution_of(record, manifest.config.execute),
                 rows=plan_diff(record.gt_plan, steps),
                 failed_index=_failed_parse_index(record),
+                rounds=round_cards(record),
             )
         )
     return out
@@ -151,6 +155,17 @@ def _attach_media(
             }
         card.views = done[scene]
         card.video = _video(run_dir, card.record, out, inline)
+        if card.rounds and views.render:
+            _attach_rounds(card, views.manifest, out, inline)
+
+
+def _attach_rounds(card: Card, manifest: RunManifest, out: Path, inline: bool) -> None:
+    stem = f"img/{card.record.key.replace('/', '_')}"
+
+    def url(round_index: int, view: str, data: bytes) -> str:
+        return _url(data, "image/jpeg", f"{stem}_r{round_index}_{view}.jpg", out, inline)
+
+    attach_round_views(card.record, card.rounds, manifest, url)
 
 
 @cache

@@ -38,6 +38,7 @@ class EpisodeViews:
     def __init__(self, run_dir: Path, manifest: RunManifest, render: bool) -> None:
         from vlm_bench.storage import SnapshotCache, default_snapshot_cache
 
+        self.manifest = manifest
         self.size = manifest.config.resolution
         self.labels = manifest.config.labels
         self.cache = SnapshotCache(default_snapshot_cache(run_dir.resolve()))

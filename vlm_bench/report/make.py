@@ -60,6 +60,8 @@ class Report:
     """Bootstrap intervals per grouping name (with ``stats``)."""
     sections: list[Section] = field(default_factory=list)
     """Statistics as display tables, in order."""
+    loop_curve: pd.DataFrame | None = None
+    """Succ@k of the closed-loop runs (:mod:`vlm_bench.report.closed_loop`), if any."""
 
 
 def _require(package: str, extra: str) -> None:
@@ -130,7 +132,20 @@ def build_report(options: ReportOptions) -> Report:
         _add_sections(report)
     if options.paired is not None:
         _add_paired(report, options.paired)
+    _add_closed_loop(report)
     return report
+
+
+def _add_closed_loop(report: Report) -> None:
+    """The "Closed loop" sections, where a run is closed-loop."""
+    from vlm_bench.report.closed_loop import loop_frame, loop_sections, succ_at_k
+
+    loops = loop_frame(report.frame)
+    if loops.empty:
+        return
+    options = report.options
+    report.loop_curve = succ_at_k(loops, options.n_boot, options.seed, options.level)
+    report.sections.extend(loop_sections(loops, report.loop_curve))
 
 
 def _add_sections(report: Report) -> None:
@@ -301,6 +316,10 @@ def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Pat
         from vlm_bench.report.plots import write_plots
 
         written.extend(write_plots(report, options.plots))
+        if report.loop_curve is not None:
+            from vlm_bench.report.closed_loop import plot_succ_at_k
+
+            written.append(plot_succ_at_k(report.loop_curve, options.plots / "succ_at_k.png"))
     if options.gallery is not None:
         from vlm_bench.report.gallery import write_galleries
 

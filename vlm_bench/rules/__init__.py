@@ -16,6 +16,7 @@ from vlm_bench.rules.frame import (
     rotate_xy,
     wrap_deg,
 )
+from vlm_bench.rules.replan import remaining_arm_steps
 from vlm_bench.rules.scene_plan import Segment, plan_from_scene, plan_segments
 from vlm_bench.rules.scene_text import SceneEntry, format_scene, parse_scene, scene_entries
 from vlm_bench.rules.work import (
@@ -48,6 +49,7 @@ __all__ = [
     "plan_from_scene",
     "plan_segments",
     "quantise_bearing",
+    "remaining_arm_steps",
     "rotate_xy",
     "rule_numbers",
     "scene_entries",

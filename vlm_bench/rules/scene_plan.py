@@ -104,11 +104,12 @@ def plan_segments(
     entries: Sequence[SceneEntry],
     arm_steps: Sequence[ArmStep],
     geo: ApproachGeometry = APPROACH,
+    held: str | None = None,
 ) -> list[Segment]:
-    """Each ARM step with its working point and the moves before it (see module doc)."""
+    """Each ARM step with its working point and the moves before it (see module doc);
+    ``held``: what the gripper holds at the start (a replan's)."""
     things = _things(entries)
     uav = UavState(0.0, 0.0, 0.0, 0.0)
-    held: str | None = None
     out: list[Segment] = []
     for step in arm_steps:
         point = _work_point(things, step, held, geo)
@@ -124,10 +125,11 @@ def plan_from_scene(
     entries: Sequence[SceneEntry],
     arm_steps: Sequence[ArmStep],
     geo: ApproachGeometry = APPROACH,
+    held: str | None = None,
 ) -> list[UavStep | ArmStep]:
     """The full plan: before each ARM step, the UAV moves the rules give (see module doc)."""
     plan: list[UavStep | ArmStep] = []
-    for segment in plan_segments(entries, arm_steps, geo):
+    for segment in plan_segments(entries, arm_steps, geo, held):
         plan.extend(UavStep(direction=leg.direction) for leg in segment.legs)
         plan.append(segment.step)
     return plan

@@ -16,6 +16,7 @@ from vlm_bench.errors import ConfigError, VlmBenchError
 from vlm_bench.runner.cached_snapshots import SnapshotSource, check_resolution
 from vlm_bench.runner.episode_request import run_snapshots
 from vlm_bench.runner.interrupt import deferred_interrupt
+from vlm_bench.runner.loop_replays import LoopReplays
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays, make_pool
@@ -126,6 +127,21 @@ def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[Snap
         source.close()
 
 
+def _replays(
+    config: RunConfig,
+    options: ReplayOptions | None,
+    on_change: Callable[[int, int, int, int], None],
+) -> Replays | LoopReplays | None:
+    """Where the run's plans execute: closed-loop episodes, or one replay per plan."""
+    if not config.execute:
+        return None
+    options = options or ReplayOptions()
+    pool = make_pool(options)
+    if config.loop == "closed":
+        return LoopReplays(pool, config, on_change)
+    return Replays(pool, config.uav_noise, on_change, options.stall_s, config.perturb)
+
+
 def run_benchmark(
     config: RunConfig,
     run_dir: Path,
@@ -178,12 +194,7 @@ def run_benchmark(
         RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
-        options = replay or ReplayOptions()
-        replays = (
-            Replays(make_pool(options), config.uav_noise, shown.replays_changed, options.stall_s)
-            if config.execute
-            else None
-        )
+        replays = _replays(config, replay, shown.replays_changed)
         try:
             pipeline = EpisodePipeline(config, store, lazy, snapshots, shown, stop, replays)
             stats = pipeline.run(refs)

@@ -22,6 +22,7 @@ from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.episode_request import episode_request
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
 from vlm_bench.runner.interrupt import StopFlag
+from vlm_bench.runner.loop_replays import Ask, LoopReplays
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import Replays
 from vlm_bench.runner.selection import EpisodeRef
@@ -90,7 +91,7 @@ class EpisodePipeline:
         snapshots: SnapshotSource,
         progress: RunProgress | None = None,
         stop: StopFlag | None = None,
-        replays: Replays | None = None,
+        replays: Replays | LoopReplays | None = None,
     ) -> None:
         """Set up the pipeline of one run.
 
@@ -105,7 +106,8 @@ class EpisodePipeline:
                 ``KeyboardInterrupt`` after the finished episodes are written (replays in
                 flight are dropped: a resume runs them again).
             replays: Where plans execute, when the run executes plans (the pipeline closes
-                it); None = the run does not execute plans.
+                it): closed-loop episodes replan through it; None = the run does not
+                execute plans.
         """
         self.config = config
         self.store = store
@@ -128,9 +130,11 @@ class EpisodePipeline:
                 self.stop.check()
                 self._run_batch([self._prepare(ref) for ref in batch])
                 self._write_replayed(block=False)
+                self._run_replans()
             while self.replays is not None and self.replays.in_flight:
                 self.stop.check()
                 self._write_replayed(block=True)  # waits at most STOP_POLL_S
+                self._run_replans()
         except BaseException:
             if self.replays is not None:
                 self.replays.close(cancel=True)
@@ -150,6 +154,50 @@ class EpisodePipeline:
         self.stats.executed = r.executed
         self.stats.exec_crashes = r.crashes
         self.stats.exec_crash_messages = list(r.crash_messages)
+
+    def _run_replans(self) -> None:
+        """Generate the replans closed-loop episodes wait for (answers cached first, keyed by
+        each round's prompt hash) and send them on; a failed generation writes the episode's
+        error record (a resume runs it again)."""
+        replays = self.replays
+        if not isinstance(replays, LoopReplays):
+            return
+        asks = replays.requests()
+        for start in range(0, len(asks), self.config.generation.batch_size):
+            self.stop.check()
+            chunk = asks[start : start + self.config.generation.batch_size]
+            misses = [a for a in chunk if self.store.cached_response(a.key, a.prompt_hash) is None]
+            results = self._generate([a.request for a in misses])
+            for ask in chunk:
+                record = self._answer(replays, ask, results)
+                if record is not None:
+                    self._write(record)
+
+    def _answer(
+        self, replays: LoopReplays, ask: Ask, results: dict[str, GenerationResult]
+    ) -> EpisodeRecord | None:
+        cached = self.store.cached_response(ask.key, ask.prompt_hash)
+        if cached is not None:
+            self.stats.cached += 1
+            return replays.answer(ask, cached, cached=True)
+        result = results[ask.request.id]
+        if result.error is not None:
+            self.stats.errors += 1
+            if len(self.stats.error_messages) < 5:
+                self.stats.error_messages.append(f"{ask.request.id}: {result.error}")
+            return replays.fail(ask, result.error, result.latency_s)
+        response = CachedResponse(
+            key=ask.key,
+            prompt_hash=ask.prompt_hash,
+            text=result.text,
+            latency_s=result.latency_s,
+            batch_latency_s=result.batch_latency_s,
+            prompt_tokens=result.prompt_tokens,
+            completion_tokens=result.completion_tokens,
+            finish_reason=result.finish_reason,
+        )
+        self.store.append_response(response)
+        return replays.answer(ask, response, cached=False)
 
     def _write(self, record: EpisodeRecord) -> None:
         self.store.append_record(record)
@@ -229,7 +277,11 @@ class EpisodePipeline:
                 self.stats.scored += 1
                 if self.replays is not None:
                     self.stop.check()
-                    finished = self.replays.submit(p.episode, record)
+                    finished = (
+                        self.replays.submit(p.episode, record, p.request)
+                        if isinstance(self.replays, LoopReplays)
+                        else self.replays.submit(p.episode, record)
+                    )
                     if finished is None:
                         continue  # written when its replay finishes
                     record = finished

@@ -15,6 +15,7 @@ import json
 import time
 from typing import TYPE_CHECKING
 
+from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
@@ -67,10 +68,12 @@ class PlanExecutor:
 
     Args:
         uav_noise: Gust force std on the UAV (N); 0 = calm.
+        perturb: Seeded perturbations (None: none).
     """
 
-    def __init__(self, uav_noise: float = 0.0) -> None:
+    def __init__(self, uav_noise: float = 0.0, perturb: PerturbConfig | None = None) -> None:
         self.uav_noise = uav_noise
+        self.perturb = perturb
         self.executed = 0
         """Plans executed."""
         self._template: tuple[tuple[str, int], Scene] | None = None
@@ -107,7 +110,11 @@ class PlanExecutor:
         self.executed += 1
         try:
             result = executor.execute_plan(
-                episode, steps, executor_config(episode, self.uav_noise), self.scene(episode)
+                episode,
+                steps,
+                executor_config(episode, self.uav_noise),
+                self.scene(episode),
+                perturb=self.perturb,
             )
             summary = ExecutionSummary.of(result)  # rejects a non-finite number
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)

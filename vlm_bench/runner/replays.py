@@ -22,10 +22,11 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol, TypeVar
 
 from vlm_bench.runner.plan_executor import PlanExecutor, record_plan
 from vlm_bench.runner.worker_lifetime import die_with_parent
+from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
@@ -47,13 +48,18 @@ class ReplayJob:
     seed: int
     uav_noise: float
     steps: tuple[UavStep | ArmStep, ...]
+    perturb: PerturbConfig | None = None
 
     @property
     def key(self) -> str:
-        """Identity of the replay: episode, noise and plan."""
+        """Identity of the replay: episode, noise, perturbations and plan."""
         plan = json.dumps(plan_to_json(list(self.steps)), sort_keys=True)
-        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}:{plan}"
+        perturb = f"/{self.perturb.model_dump_json()}" if self.perturb is not None else ""
+        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}{perturb}:{plan}"
 
+
+J = TypeVar("J")
+R = TypeVar("R")
 
 Replayed = tuple[ExecutionSummary, str | None]
 """A replay's summary and, where the executor raised, the message (the summary says so too)."""
@@ -67,6 +73,11 @@ class ReplayPool(Protocol):
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
         """Start ``job``; its future holds the outcome."""
+        ...
+
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        """Start ``fn(job)`` (a picklable module-level function); its future holds the
+        outcome (closed-loop jobs)."""
         ...
 
     def restart(self) -> None:
@@ -84,9 +95,9 @@ class ReplayPool(Protocol):
         ...
 
 
-_EXECUTORS: dict[float, PlanExecutor] = {}
-"""Per process (each worker's own): one executor per noise level, which keeps the compiled
-scene of the episode it last replayed."""
+_EXECUTORS: dict[tuple[float, PerturbConfig | None], PlanExecutor] = {}
+"""Per process (each worker's own): one executor per noise level and perturbation setting,
+which keeps the compiled scene of the episode it last replayed."""
 
 
 def replay(job: ReplayJob) -> Replayed:
@@ -95,9 +106,10 @@ def replay(job: ReplayJob) -> Replayed:
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
     route_mujoco_log()  # a worker writes no MUJOCO_LOG.TXT either
-    executor = _EXECUTORS.get(job.uav_noise)
+    setting = (job.uav_noise, job.perturb)
+    executor = _EXECUTORS.get(setting)
     if executor is None:
-        executor = _EXECUTORS[job.uav_noise] = PlanExecutor(job.uav_noise)
+        executor = _EXECUTORS[setting] = PlanExecutor(job.uav_noise, job.perturb)
     episode = make_episode(job.task_id, job.seed)
     return executor.run(episode, list(job.steps))
 
@@ -113,9 +125,12 @@ class InlinePool:
     workers = 1
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
-        future: Future[Replayed] = Future()
+        return self.submit_call(replay, job)
+
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        future: Future[R] = Future()
         try:
-            future.set_result(replay(job))
+            future.set_result(fn(job))
         except BaseException as exc:  # noqa: BLE001  (delivered through the future)
             future.set_exception(exc)
         return future
@@ -149,6 +164,9 @@ class ProcessPool:
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
         return self._pool.submit(replay, job)
+
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        return self._pool.submit(fn, job)
 
     def restart(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)
@@ -225,6 +243,7 @@ class Replays:
             (progress displays).
         stall_s: Longest time with replays in flight and none finishing (s); default:
             :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
+        perturb: Perturbations of every replay (None: none).
     """
 
     def __init__(
@@ -233,9 +252,11 @@ class Replays:
         uav_noise: float = 0.0,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
+        perturb: PerturbConfig | None = None,
     ) -> None:
         self.pool = pool
         self.uav_noise = uav_noise
+        self.perturb = perturb
         self.stats = ReplayStats()
         self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
         self._notify = on_change
@@ -260,7 +281,7 @@ class Replays:
         steps = record_plan(record)
         if steps is None:
             return record.model_copy(update={"execution": None})
-        job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps))
+        job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps), self.perturb)
         if not self._pending:  # the stall clock runs while replays are in flight
             self._last_progress = time.monotonic()
         future = self._futures.get(job.key)
@@ -277,10 +298,10 @@ class Replays:
         is in flight, or ``timeout`` seconds)."""
         if block and self._pending and not any(p.future.done() for p in self._pending):
             wait({p.future for p in self._pending}, timeout, return_when=FIRST_COMPLETED)
-        broken = [p for p in self._pending if _broken(p.future)]
+        broken = [p for p in self._pending if broken_future(p.future)]
         while broken:
             self._resend(broken)
-            broken = [p for p in broken if _broken(p.future)]
+            broken = [p for p in broken if broken_future(p.future)]
         done: list[_Pending] = []
         still: list[_Pending] = []
         for p in self._pending:
@@ -370,7 +391,7 @@ def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:
     )
 
 
-def _broken(future: Future[Replayed]) -> bool:
+def broken_future(future: Future[Any]) -> bool:
     """Whether ``future`` failed because its worker process died (or was dropped with it)."""
     if not future.done():
         return False

@@ -11,11 +11,12 @@ vlm-bench installed (see the two-machine recipe in docs/scaling.md). Ray Client 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from concurrent.futures import Future
 from typing import Any
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.runner.replays import Replayed, ReplayJob, replay
+from vlm_bench.runner.replays import J, R, Replayed, ReplayJob, replay
 
 MAX_RETRIES = 2
 """Times Ray runs a replay again after its worker process died."""
@@ -49,6 +50,7 @@ class RayPool:
         self._ray: Any = None
         self._task: Any = None
         self._started = False
+        self._tasks: dict[Callable[..., Any], Any] = {}
         self._refs: dict[int, Any] = {}
         """The object refs of replays in flight (for cancelling; finished ones are dropped so
         a long sweep does not pin its results in the object store)."""
@@ -84,8 +86,17 @@ class RayPool:
 
     def submit(self, job: ReplayJob) -> Future[Replayed]:
         self._connect()
-        ref = self._task.remote(job)
-        future: Future[Replayed] = ref.future()
+        return self._track(self._task.remote(job))
+
+    def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
+        ray = self._connect()
+        task = self._tasks.get(fn)
+        if task is None:
+            task = self._tasks[fn] = ray.remote(num_cpus=1, max_retries=MAX_RETRIES)(fn)
+        return self._track(task.remote(job))
+
+    def _track(self, ref: Any) -> Future[Any]:
+        future: Future[Any] = ref.future()
         self._refs[id(future)] = ref
         future.add_done_callback(lambda done: self._refs.pop(id(done), None))
         return future

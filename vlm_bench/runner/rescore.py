@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vlm_bench.episodes import make_episode
+from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
 from vlm_bench.runner.progress import progress_bar
 from vlm_bench.runner.replays import Replays, make_pool
@@ -81,13 +82,23 @@ def rescore_run(
     with RunStore.open_existing(run_dir) as store:
         config = store.manifest.config
         require_current_version(config.benchmark_version, f"run {store.paths.root}")
+        if config.loop == "closed":
+            raise ConfigError(
+                "rescore covers open-loop runs; re-run a closed-loop run with the same "
+                "command (its answers come from the response cache, round by round)"
+            )
         episodes: dict[tuple[str, int], Episode] = {}
         label = f"rescore {store.paths.run_id}"
         records = list(store.records.values())
         done: dict[str, EpisodeRecord] = {}
         options = replay or ReplayOptions()
         replays = (
-            Replays(make_pool(options), config.uav_noise, stall_s=options.stall_s)
+            Replays(
+                make_pool(options),
+                config.uav_noise,
+                stall_s=options.stall_s,
+                perturb=config.perturb,
+            )
             if config.execute
             else None
         )

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from collections.abc import Collection
+from typing import Annotated, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -43,3 +44,14 @@ class FiniteFrozen(Frozen):
     (records, manifests), where NaN and infinity have no form."""
 
     model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+
+
+def omit_none(data: Any, names: Collection[str]) -> Any:
+    """``data`` (a model's serialised dict) without the keys of ``names`` whose value is None:
+    a field added later is left out of the JSON while unset, so files written without it do
+    not change."""
+    if isinstance(data, dict):
+        for name in names:
+            if name in data and data[name] is None:
+                del data[name]
+    return data

@@ -9,11 +9,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import Literal
+from typing import Any, Literal
 
-from pydantic import Field
+from pydantic import Field, SerializerFunctionWrapHandler, model_serializer
 
-from vlm_bench.types.base import FiniteFrozen, Frozen
+from vlm_bench.types.base import FiniteFrozen, Frozen, omit_none
+from vlm_bench.types.closed_loop import PerturbEvent
 from vlm_bench.types.episode import UavPose
 
 StepStatus = Literal["ok", "failed", "skipped"]
@@ -225,6 +226,9 @@ class ExecutionResult(FiniteFrozen):
     final_uav_pose: UavPose = Field(description="UAV pose at the end of execution.")
     sim_time_s: float = Field(ge=0, description="Simulated time (s).")
     wall_time_s: float = Field(ge=0, description="Wall-clock time (s).")
+    perturbations: tuple[PerturbEvent, ...] | None = Field(
+        default=None, description="Perturbations that fired (None: the run perturbs nothing)."
+    )
 
     @property
     def s_task(self) -> float:
@@ -247,6 +251,13 @@ class ExecutionSummary(FiniteFrozen):
     displacement_total: float = Field(default=0.0, ge=0)
     sim_time_s: float = Field(ge=0)
     wall_time_s: float = Field(ge=0)
+    perturbations: tuple[PerturbEvent, ...] | None = None
+    """Perturbations that fired (None, and left out of the JSON, where the run perturbs
+    nothing)."""
+
+    @model_serializer(mode="wrap")
+    def _omit_unperturbed(self, handler: SerializerFunctionWrapHandler) -> Any:
+        return omit_none(handler(self), ("perturbations",))
 
     @classmethod
     def of(cls, result: ExecutionResult) -> ExecutionSummary:
@@ -264,6 +275,7 @@ class ExecutionSummary(FiniteFrozen):
             displacement_total=sum(result.displacement.values()),
             sim_time_s=result.sim_time_s,
             wall_time_s=result.wall_time_s,
+            perturbations=result.perturbations,
         )
 
 

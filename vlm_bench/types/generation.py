@@ -47,10 +47,27 @@ class RequestMeta(Frozen):
         default=None, description="The GT's ARM steps alone (what the instruction asks for)."
     )
     object_ids: tuple[str, ...] = Field(default=(), description="Ids a plan may reference.")
+    round: int = Field(default=0, ge=0, description="Closed loop: the round (0 = first plan).")
+    done_steps: tuple[PlanStep, ...] = Field(
+        default=(), description="Closed loop: the steps executed with success so far, in order."
+    )
+    held: str | None = Field(default=None, description="Closed loop: what the gripper holds.")
+
+
+class Turn(Frozen):
+    """An earlier turn of a conversation (a closed loop's earlier rounds)."""
+
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", ser_json_bytes="base64", val_json_bytes="base64"
+    )
+
+    role: Literal["user", "assistant"] = Field(description="Who spoke.")
+    content: tuple[ContentPart, ...] = Field(description="Text and images, in order.")
 
 
 class GenerationRequest(Frozen):
-    """One prompt to complete: a system message and a user turn of text and images."""
+    """One prompt to complete: a system message, earlier turns (a closed loop's replans:
+    multi-turn), and the user turn of text and images."""
 
     model_config = ConfigDict(
         frozen=True, extra="forbid", ser_json_bytes="base64", val_json_bytes="base64"
@@ -60,14 +77,18 @@ class GenerationRequest(Frozen):
     episode_id: str = Field(default="", description="Episode the prompt was built for.")
     system: str = Field(description="System message text.")
     user: tuple[ContentPart, ...] = Field(description="User turn: text and images, in order.")
+    history: tuple[Turn, ...] = Field(
+        default=(), description="Earlier turns, oldest first, between system and user."
+    )
     json_schema: dict[str, Any] | None = Field(
         default=None, description="JSON Schema of the output, for constrained decoding."
     )
     meta: RequestMeta | None = Field(default=None, description="Episode facts for built-ins.")
 
     def images(self) -> list[ImagePart]:
-        """The user turn's images, in order."""
-        return [p for p in self.user if isinstance(p, ImagePart)]
+        """Every image of the conversation, in order (earlier turns first)."""
+        parts = [p for turn in self.history for p in turn.content] + list(self.user)
+        return [p for p in parts if isinstance(p, ImagePart)]
 
 
 class GenerationConfig(Frozen):

@@ -10,11 +10,18 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+)
 
-from vlm_bench.types.base import Utf8Str
+from vlm_bench.types.base import Utf8Str, omit_none
 from vlm_bench.types.execution import ExecutionSummary
 from vlm_bench.types.parse import ParseResult
+from vlm_bench.types.rounds import LoopOutcome, RoundRecord
 from vlm_bench.types.scores import PlanScores
 from vlm_bench.types.task import InstructionVariant, Suite
 
@@ -96,6 +103,16 @@ class EpisodeRecord(Tolerant):
     )
     status: RecordStatus = Field(description="ok or error (see RecordStatus).")
     created: datetime = Field(default_factory=utc_now, description="When it was written (UTC).")
+    rounds: tuple[RoundRecord, ...] | None = Field(
+        default=None, description="Closed loop: the replans after round 0 (None: open loop)."
+    )
+    loop: LoopOutcome | None = Field(
+        default=None, description="Closed loop: the episode summed up (None: open loop)."
+    )
+
+    @model_serializer(mode="wrap")
+    def _omit_open_loop(self, handler: SerializerFunctionWrapHandler) -> Any:
+        return omit_none(handler(self), ("rounds", "loop"))
 
     @property
     def ok(self) -> bool:
@@ -106,8 +123,14 @@ class EpisodeRecord(Tolerant):
         """The record as JSON data minus :data:`TIMING_FIELDS`, ``cached`` and the execution's
         wall time (comparisons)."""
         data = self.model_dump(mode="json", exclude=set(TIMING_FIELDS) | {"cached"})
-        if data.get("execution") is not None:
-            data["execution"].pop("wall_time_s", None)
+        executions = [data.get("execution")]
+        for row in data.get("rounds") or ():
+            for name in ("latency_s", "cached"):
+                row.pop(name, None)
+            executions.append(row.get("execution"))
+        for execution in executions:
+            if execution is not None:
+                execution.pop("wall_time_s", None)
         return data
 
 

@@ -38,6 +38,7 @@ from pydantic import (
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.benchmark_version import BENCHMARK_VERSION, FIRST_VERSION
+from vlm_bench.types.closed_loop import HistoryMode, LoopConfig, LoopMode, PerturbConfig
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
 from vlm_bench.types.scores import ScoringConfig
@@ -46,7 +47,16 @@ from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 RUN_SCHEMA_VERSION = 1
 """Version of the manifest layout written by this release."""
 
-FIELDS_ADDED_LATER: dict[str, Any] = {"uav_noise": 0.0, "images": True, "scene_as_text": False}
+FIELDS_ADDED_LATER: dict[str, Any] = {
+    "uav_noise": 0.0,
+    "images": True,
+    "scene_as_text": False,
+    "loop": "open",
+    "max_rounds": 3,
+    "step_budget": None,
+    "perturb": None,
+    "history": "text",
+}
 """Fields added after the first release, with their defaults (hashed only when different)."""
 
 GENERATION_FIELDS_ADDED_LATER: dict[str, Any] = {"top_k": 0, "repetition_penalty": 1.0}
@@ -126,6 +136,21 @@ class RunConfig(FiniteFrozen):
         description="Benchmark version evaluated: tasks, GT, prompts, metrics "
         "(docs/benchmark-versions.md); 1 in manifests written before versions were recorded.",
     )
+    loop: LoopMode = Field(
+        default="open", description="open: one plan; closed: replan after a failed round."
+    )
+    max_rounds: int = Field(default=3, ge=1, le=20, description="Closed loop: replans (K).")
+    step_budget: int | None = Field(
+        default=None, ge=1, description="Closed loop: steps over all rounds (None: 3 x GT)."
+    )
+    perturb: PerturbConfig | None = Field(
+        default=None, description="Seeded slips and bumps during execution (None: none)."
+    )
+    history: HistoryMode = Field(
+        default="text",
+        description="Closed loop: earlier rounds as text with only the current views, or "
+        "with every round's views (images).",
+    )
 
     @field_validator("seeds")
     @classmethod
@@ -164,6 +189,22 @@ class RunConfig(FiniteFrozen):
         if self.uav_noise > 0 and not self.execute:
             raise ValueError("uav_noise > 0 needs execute (gusts act only while plans execute)")
         return self
+
+    @model_validator(mode="after")
+    def _loop_options(self) -> RunConfig:
+        if self.loop == "closed" and not self.execute:
+            raise ValueError("loop closed needs execute (a replan starts where execution failed)")
+        if self.perturb is not None and not self.execute:
+            raise ValueError("perturb needs execute (perturbations act while plans execute)")
+        if self.loop == "open" and (
+            self.max_rounds != 3 or self.step_budget is not None or self.history != "text"
+        ):
+            raise ValueError("max_rounds, step_budget and history need loop closed")
+        return self
+
+    def loop_config(self) -> LoopConfig:
+        """The closed loop's settings."""
+        return LoopConfig(max_rounds=self.max_rounds, step_budget=self.step_budget)
 
     def prompt_config(self, variant: InstructionVariant) -> PromptConfig:
         """The prompt options of one instruction variant."""

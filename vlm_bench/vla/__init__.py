@@ -7,6 +7,8 @@ Sits above :mod:`vlm_bench.executor` (it replays plans through :func:`execute_pl
 * ``observation``: the :class:`VlaObservation` (camera images, proprioception) a policy sees.
 * ``hierarchical``: the :class:`Policy` protocol and :func:`policy_skills`, the ARM skills a
   policy drives inside a plan replay.
+* ``closed_loop``: :func:`run_closed_loop`, a planner replanning after failed rounds in one
+  simulation, the ARM steps driven by a policy (or the scripted skills).
 * ``gym_env``: :class:`~vlm_bench.vla.gym_env.AerialManipulationEnv`, a gymnasium environment
   (imported on its own: it needs the ``gym`` extra).
 
@@ -21,6 +23,7 @@ from vlm_bench.vla.action import (
     VlaAction,
     apply_action,
 )
+from vlm_bench.vla.closed_loop import ClosedLoopResult, Planner, run_closed_loop
 from vlm_bench.vla.hierarchical import (
     DEFAULT_MAX_STEPS,
     Policy,
@@ -41,7 +44,9 @@ __all__ = [
     "MAX_UAV_STEP_M",
     "MAX_YAW_STEP_RAD",
     "PROPRIO_FIELDS",
+    "ClosedLoopResult",
     "ObservationConfig",
+    "Planner",
     "Policy",
     "PolicyOutput",
     "Proprioception",
@@ -50,4 +55,5 @@ __all__ = [
     "apply_action",
     "grasped_object",
     "policy_skills",
+    "run_closed_loop",
 ]

@@ -1,0 +1,82 @@
+"""The replan prompt: same system message as the first prompt, feedback on executed steps, the
+state now, a hash per round's request; golden snapshot."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+from types import ModuleType
+
+from vlm_bench.prompting import build_prompt, build_replan_prompt, render_text
+from vlm_bench.types.closed_loop import ExecutedStep, Feedback
+from vlm_bench.types.plan import ArmStep, Direction, UavStep
+from vlm_bench.types.prompt import PromptConfig
+
+
+def _builder_tests() -> ModuleType:
+    """The first prompt's tests (their synthetic episode, images and golden check)."""
+    path = Path(__file__).with_name("test_prompt_builder.py")
+    spec = importlib.util.spec_from_file_location("_prompt_builder_tests", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_shared = _builder_tests()
+IMAGES, _check_golden, _episode = _shared.IMAGES, _shared._check_golden, _shared._episode
+MOVE = UavStep(direction=Direction.FRONTLEFT)
+PICK = ArmStep(object="gray_cube", skill="pick")
+PLACE = ArmStep(object="yellow_basket", skill="place")
+FAILED = Feedback(
+    round=1,
+    executed=(
+        ExecutedStep(step=MOVE, status="done"),
+        ExecutedStep(step=PICK, status="done"),
+        ExecutedStep(
+            step=PLACE, status="failed", code="slipped", detail="gray_cube slipped\nfrom it"
+        ),
+    ),
+    held=None,
+)
+INCOMPLETE = Feedback(
+    round=2,
+    executed=tuple(ExecutedStep(step=s, status="done") for s in (MOVE, PICK, PLACE)),
+    held=None,
+    incomplete=True,
+)
+
+
+def test_golden_replan_prompt() -> None:
+    config = PromptConfig(scene_as_text=True)
+    prompt = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED)
+    _check_golden("replan_default.txt", render_text(prompt))
+
+
+def test_replan_keeps_the_first_prompts_system_message_and_rules() -> None:
+    config = PromptConfig()
+    first = build_prompt(_episode(), IMAGES, config)
+    replan = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED)
+    assert replan.system == first.system and replan.views() == first.views()
+    text = render_text(replan)
+    assert '"skill": "place"}: failed (slipped): gray_cube slipped from it' in text
+    assert "The gripper holds: nothing." in text and "not complete" not in text
+
+
+def test_unmet_goals_are_reported_without_naming_them() -> None:
+    replan = build_replan_prompt(_episode(), _episode(), IMAGES, PromptConfig(), INCOMPLETE)
+    user = render_text(replan).split("### user", 1)[1]
+    assert "Every step succeeded, but the task is not complete." in user
+    assert "inside" not in user and "goal" not in user
+
+
+def test_the_hash_covers_the_feedback_and_the_views_pixels() -> None:
+    config = PromptConfig()
+    base = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED)
+    other = build_replan_prompt(_episode(), _episode(), IMAGES, config, INCOMPLETE)
+    darker = {v: png for v, png in IMAGES.items()}
+    darker["uav"] = IMAGES["wrist"] if IMAGES["wrist"] != IMAGES["uav"] else b"\x89PNG\r\n\x1a\nX"
+    repainted = build_replan_prompt(_episode(), _episode(), darker, config, FAILED)
+    first = build_prompt(_episode(), IMAGES, config)
+    hashes = {base.prompt_hash, other.prompt_hash, repainted.prompt_hash, first.prompt_hash}
+    assert len(hashes) == 4

@@ -1,0 +1,38 @@
+"""What is left to do after a failed round, read the way a perfect planner reads its feedback.
+
+The GT's ARM steps are matched in order against the ARM steps executed with success so far;
+the rest is still to do, with two corrections a planner reading the state makes: an object
+whose ``place`` follows a done ``pick`` but which is no longer held (it slipped) is picked
+again; and where every step is done but the task is not complete, the steps from the last
+``pick`` are done again.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from vlm_bench.types.plan import ArmStep, PlanStep
+
+
+def remaining_arm_steps(
+    arm_steps: Sequence[ArmStep], done: Sequence[PlanStep], held: str | None
+) -> tuple[int, list[ArmStep]]:
+    """The index in ``arm_steps`` to resume from and the ARM steps still to do (module doc)."""
+    k = 0
+    for step in done:
+        if isinstance(step, ArmStep) and k < len(arm_steps) and step == arm_steps[k]:
+            k += 1
+    if k == len(arm_steps):
+        picks = [i for i, s in enumerate(arm_steps) if s.skill == "pick"]
+        k = picks[-1] if picks else max(0, len(arm_steps) - 1)
+    elif (
+        held is None
+        and k > 0
+        and (arm_steps[k - 1].skill, arm_steps[k].skill)
+        == (
+            "pick",
+            "place",
+        )
+    ):
+        k -= 1
+    return k, list(arm_steps[k:])

@@ -1,0 +1,99 @@
+"""A closed-loop episode's rounds, executed in one simulation (what a worker runs).
+
+A :class:`LoopJob` holds every round's plan so far; the worker executes them one after another
+on one :class:`~vlm_bench.executor.live_episode.LiveEpisode` from the episode's fresh scene and,
+where the last round failed and the episode may replan, describes the state it ended in (the
+episode as it stands, what is held, the views). The simulation is deterministic, so running
+the earlier rounds again reproduces the state they left, whichever worker runs the job: a job
+is a pure function of the episode, the settings and the plans, as a resume needs.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+from vlm_bench.runner.plan_executor import crash_summary, executor_config
+from vlm_bench.types.closed_loop import PerturbConfig
+from vlm_bench.types.episode import Episode
+from vlm_bench.types.execution import ExecutionSummary
+from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
+
+Steps = tuple[UavStep | ArmStep, ...]
+
+
+@dataclass(frozen=True)
+class StateRequest:
+    """How to show the state a failed round left."""
+
+    views: tuple[str, ...]
+    size: int
+    labels: bool
+
+
+@dataclass(frozen=True)
+class LoopJob:
+    """An episode's rounds to execute (picklable: crosses to worker processes)."""
+
+    task_id: str
+    seed: int
+    uav_noise: float
+    perturb: PerturbConfig | None
+    rounds: tuple[Steps, ...]
+    state: StateRequest | None
+    """Describe the state after the last round when it fails (None: the episode ends)."""
+
+    @property
+    def key(self) -> str:
+        """Identity of the job: episode, noise, perturbations and every round's plan."""
+        plans = json.dumps([plan_to_json(list(r)) for r in self.rounds], sort_keys=True)
+        perturb = self.perturb.model_dump_json() if self.perturb is not None else ""
+        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}/{perturb}:{plans}"
+
+
+@dataclass(frozen=True)
+class LiveState:
+    """The state a failed round left."""
+
+    now: Episode
+    """The episode as it stands (objects, drawers, the UAV where they are)."""
+    held: str | None
+    """What the gripper holds."""
+    images: dict[str, bytes]
+    """PNG views of the state, by view name."""
+
+
+@dataclass(frozen=True)
+class RoundsReplayed:
+    """Each round's execution and, where asked and the last round failed, the state."""
+
+    executions: tuple[ExecutionSummary, ...]
+    state: LiveState | None
+    crash: str | None = None
+    """The executor's exception, where it raised (the last execution says so too)."""
+
+
+def replay_rounds(job: LoopJob) -> RoundsReplayed:
+    """Execute ``job``'s rounds in this process (see module doc)."""
+    from vlm_bench.episodes import make_episode
+    from vlm_bench.executor.live_episode import LiveEpisode
+    from vlm_bench.executor.live_state import episode_now, render_now
+    from vlm_bench.sim.mujoco_log import route_mujoco_log
+
+    route_mujoco_log()
+    episode = make_episode(job.task_id, job.seed)
+    live = LiveEpisode(episode, executor_config(episode, job.uav_noise), perturb=job.perturb)
+    executions: list[ExecutionSummary] = []
+    for steps in job.rounds:
+        try:
+            executions.append(ExecutionSummary.of(live.execute(list(steps))))
+        except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
+            summary = crash_summary(exc, 0.0)
+            executions.append(summary)
+            return RoundsReplayed(tuple(executions), None, summary.failure_reason)
+    state = None
+    if job.state is not None and not executions[-1].exec_success:
+        now = episode_now(live)
+        images = render_now(live, now, job.state.views, job.state.size, job.state.labels)
+        state = LiveState(now, live.held, images)
+    return RoundsReplayed(tuple(executions), state)
