@@ -246,8 +246,9 @@ def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
 
 
 def _grasper_after_the_flight(task: str, seed: int) -> tuple[Episode, Grasper]:
-    """The episode and a grasper on its scene after the GT plan's first step (a UAV move)."""
-    episode = make_episode(task, seed)
+    """The episode (its incident scene) and a grasper on its scene after the GT plan's first
+    step (a UAV move)."""
+    episode = incident_episode(task, seed)
     loop = SimLoop(build_scene(episode))
     run = _Run(episode, loop, default_skills(loop))
     assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
