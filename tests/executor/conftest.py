@@ -1,6 +1,9 @@
-"""Shared executor test set-ups."""
+"""Shared executor test set-ups; ``incidents`` (frozen incident scenes) is importable here."""
 
 from __future__ import annotations
+
+import sys
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -12,6 +15,8 @@ from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import set_arm_targets
 from vlm_bench.sim.scene import build_scene
+
+sys.path.insert(0, str(Path(__file__).parent))  # --import-mode=importlib puts no test dir there
 
 SIDEWAYS = (1.65, -1.75, 2.55, -2.56, -0.61, 1.28, -1.33)
 """An arm reaching out sideways: the straight stow from here swings link 6 through the UAV."""

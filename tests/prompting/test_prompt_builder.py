@@ -232,12 +232,12 @@ def test_requests_round_trip_through_json() -> None:
 
 
 def test_object_list_is_shuffled_per_episode_target_first_as_often_as_chance() -> None:
-    from vlm_bench.catalog.tasks import all_tasks
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.catalog.gt_episodes import load_materialised
+    from vlm_bench.catalog.tasks import all_tasks, get_task
     from vlm_bench.prompting.builder import object_order
 
     first_is_target, chance = 0, 0.0
-    episodes = [make_episode(t, s) for t in all_tasks() for s in range(3)]
+    episodes = [ep for t in all_tasks() for ep in load_materialised(t).episodes if ep.seed < 3]
     for ep in episodes:
         order = object_order(ep)
         assert sorted(order) == sorted(ep.object_ids())
@@ -247,7 +247,8 @@ def test_object_list_is_shuffled_per_episode_target_first_as_often_as_chance() -
     # The task files list the target first in 40 of 60 tasks; shuffled, as often as chance
     # gives (about 1 in 6): neither favoured nor avoided.
     assert 0.6 * chance < first_is_target < 1.4 * chance, (first_is_target, chance)
-    orders = {tuple(object_order(make_episode("standard_pick_place", s))) for s in range(6)}
+    stored = load_materialised(get_task("standard_pick_place")).episodes
+    orders = {tuple(object_order(ep)) for ep in stored[:6]}
     assert len(orders) > 1  # the order changes with the seed
 
 
@@ -281,7 +282,7 @@ def test_rule_numbers_in_the_prompt_are_the_ground_truths() -> None:
     from vlm_bench.catalog.world_catalog import object_kinds
     from vlm_bench.episodes.gt_builder import GroundTruthBuilder
     from vlm_bench.rules import work
-    from vlm_bench.types.geometry import APPROACH
+    from vlm_bench.types.geometry import APPROACH, UAV_ROTOR_SPAN
 
     geo = inspect.signature(GroundTruthBuilder).parameters["geometry"].default
     assert geo is APPROACH  # the geometry episodes are built with
@@ -297,8 +298,10 @@ def test_rule_numbers_in_the_prompt_are_the_ground_truths() -> None:
         f"by more than {geo.vertical_threshold:.2f} m",
         f"is {work.DRAWER_PULL:.2f} m open",
         f"({work.CONTAINER_FLOOR:.3f} m above its base)",
-        f"({work.DRAWER_FLOOR_BELOW_HANDLE:.2f} m below its handle and "
-        f"{work.DRAWER_INSIDE_BEHIND_HANDLE:.2f} m behind it)",
+        f"{work.DRAWER_FLOOR_BELOW_HANDLE:.2f} m below its handle and "
+        f"{work.DRAWER_INSIDE_BEHIND_HANDLE:.2f} m behind it (from the handle into the drawer",
+        "horizontally at the destination's centre",
+        f"The UAV is {UAV_ROTOR_SPAN:.2f} m across from rotor tip to rotor tip",
         "Each covers 45 degrees",
         '"up" comes before the step\'s horizontal move, "down" after it',
     ]

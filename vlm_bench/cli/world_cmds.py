@@ -67,10 +67,10 @@ def episode(
     ] = False,
 ) -> None:
     """Show one episode: objects, UAV start, instructions, GT plan, goals."""
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.types.plan import plan_to_json
 
-    ep = make_episode(task, parse_seed(seed))
+    ep = get_episode(task, parse_seed(seed))
     data: dict[str, Any] = ep.model_dump(mode="json")
     data["gt_plan"] = plan_to_json(ep.gt_plan)
     if as_json:
@@ -102,12 +102,12 @@ def render(
     instruction: Annotated[str, typer.Option(help="Instruction shown on the sheet.")] = "explicit",
 ) -> None:
     """Render the four camera views as PNGs plus a labelled 2×2 sheet."""
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.sim.snapshot_render import render_episode, save_views
 
     writable_folder("--out", out)
     variant = parse_variant(instruction)
-    ep = make_episode(task, parse_seed(seed))
+    ep = get_episode(task, parse_seed(seed))
     views = render_episode(ep, size=size)
     title = f"{ep.task_id} · seed {ep.seed} · {ep.instruction(variant)}"
     paths = save_views(views, out, title=title)
@@ -128,7 +128,7 @@ def sheet(
 ) -> None:
     """Render a contact sheet of many tasks (one view each, or all four)."""
     from vlm_bench.catalog.tasks import get_task, tasks_in
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.sim.snapshot_render import episode_sheet
 
     writable_file("--out", out, make_folder=True)
@@ -136,7 +136,7 @@ def sheet(
     if columns < 1:
         raise ConfigError(f"--columns must be at least 1, got {columns}")
     chosen = [get_task(t) for t in task] if task else tasks_in(parse_suite(suite))
-    episodes = [make_episode(t, parse_seed(seed)) for t in chosen]
+    episodes = [get_episode(t.id, parse_seed(seed)) for t in chosen]
     image = episode_sheet(episodes, view=view, size=size, columns=columns)
     out.parent.mkdir(parents=True, exist_ok=True)
     image.save(out)

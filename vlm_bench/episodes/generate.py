@@ -2,8 +2,10 @@
 
 Seed 0 is the canonical layout (objects exactly as in the task file); other seeds jitter movable
 objects. Every seed places the UAV start at a different bearing/heading/distance so that at least
-one UAV move is needed, and the first move's body-frame direction cycles through the eight
-sectors across seeds and tasks. Sampling is deterministic in (task id, seed).
+one UAV move is needed; the first move's body-frame direction cycles through the eight sectors,
+and (seeds 1-9) the start altitude through below, at and above the first ARM step's working
+altitude, so the first segment's ``up``/``down`` changes between seeds. Seed 0 keeps the
+canonical start, level with the working altitude. Sampling is deterministic in (task id, seed).
 """
 
 from __future__ import annotations
@@ -20,19 +22,28 @@ from vlm_bench.episodes.layout import part_refs, place_objects
 from vlm_bench.episodes.plane_geometry import point_rect_distance, rect_corners
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
-from vlm_bench.types.episode import Episode, Lighting, UavPose
+from vlm_bench.rules.approach import VERTICAL_MARGIN
+from vlm_bench.sim.cameras import third_person_views
+from vlm_bench.sim.view_sizes import frame_problem, legibility_score, object_pixel_sizes
+from vlm_bench.types.episode import Episode, EpisodeObject, Lighting, PartRef, UavPose
+from vlm_bench.types.geometry import APPROACH
+from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.task import TaskSpec
 
 MAX_ATTEMPTS = 500
-CRUISE_ALTITUDE = 1.50  # m, UAV body altitude at the start (stowed arm clears table objects)
-ALTITUDE_JITTER = 0.03  # m
-START_DISTANCE = (1.3, 2.0)  # m, horizontal distance to the first ARM object
+LEGIBLE_TRIES = 40  # valid layouts drawn for a legible one before the most legible is kept
+START_ALTITUDE = (1.10, 2.20)  # m, range of the UAV body altitude at the start
+START_CLIMB = 0.70  # m: the most the start lies below or above the first working altitude
+START_DISTANCE = (0.95, 1.6)  # m, horizontal distance to the first ARM object
+CANONICAL_DISTANCE = (1.3, 2.0)  # m: the same for seed 0
+CANONICAL_ALTITUDE = (1.47, 1.53)  # m: seed 0 starts level with a table's working altitude
 BEARING_SPREAD = 12.0  # deg around the sector centre (boundaries are 22.5 deg away)
 FRONT_CONE = 35.0  # deg, start cone for parts approached from the front (drawers)
 WALL_CLEARANCE = 0.8  # m
 TALL_CLEARANCE = 0.6  # m from fixtures taller than the stowed arm's lowest point
 OBSERVE_DEPTH = 0.85  # m: the arm's start (observe) posture hangs this far below the UAV...
 OBSERVE_CLEARANCE = 0.40  # m: ...within 0.28 m of it: a table top under it would be in contact
+OBSERVE_GAP = 0.05  # m: least gap from the hanging arm down to anything under it
 
 
 def first_sector(task_id: str, seed: int) -> int:
@@ -42,6 +53,39 @@ def first_sector(task_id: str, seed: int) -> int:
 
 def _rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
     return np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt])
+
+
+def vertical_start(task_id: str, seed: int) -> int:
+    """Where the start altitude lies from the first working altitude: -1 below it (the first
+    segment climbs), 0 at it (no vertical move), +1 above it (descends); cycles over seeds and
+    tasks."""
+    return (task_index(task_id) + seed) % 3 - 1
+
+
+def altitude_bands(working: float) -> dict[int, tuple[float, float]]:
+    """Start altitude ranges (m) below (-1), at (0) and above (+1) the working altitude
+    ``working``, inside :data:`START_ALTITUDE` and clear of the vertical threshold by
+    :data:`~vlm_bench.rules.approach.VERTICAL_MARGIN`; a side the range leaves no room on is
+    left out."""
+    lo, hi = START_ALTITUDE
+    near = APPROACH.vertical_threshold - VERTICAL_MARGIN  # within: no vertical move
+    far = APPROACH.vertical_threshold + VERTICAL_MARGIN  # beyond: a vertical move
+    bands = {
+        -1: (max(lo, working - START_CLIMB), working - far),
+        0: (max(lo, working - near), min(hi, working + near)),
+        1: (working + far, min(hi, working + START_CLIMB)),
+    }
+    return {side: (a, b) for side, (a, b) in bands.items() if a <= b}
+
+
+def start_altitudes(task_id: str, seed: int, attempt: int, working: float) -> list[float]:
+    """Start altitudes (m) to try, one per side of the working altitude that the range allows,
+    the side :func:`vertical_start` asks for first, then the next ones round."""
+    bands = altitude_bands(working)
+    rng = np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt, 31_337])
+    first = vertical_start(task_id, seed)
+    sides = [(first + 1 + k) % 3 - 1 for k in range(3)]
+    return [round(float(rng.uniform(*bands[s])), 4) for s in sides if s in bands]
 
 
 def _lighting(task_id: str, seed: int) -> Lighting:
@@ -70,10 +114,10 @@ def _sample_start(
     else:
         world_bearing = float(rng.uniform(-180.0, 180.0))
     yaw = wrap_deg(world_bearing - body_bearing)
-    dist = float(rng.uniform(*START_DISTANCE))
+    dist = float(rng.uniform(*(CANONICAL_DISTANCE if seed == 0 else START_DISTANCE)))
     x = target[0] - dist * math.cos(math.radians(world_bearing))
     y = target[1] - dist * math.sin(math.radians(world_bearing))
-    z = CRUISE_ALTITUDE + float(rng.uniform(-ALTITUDE_JITTER, ALTITUDE_JITTER))
+    z = float(rng.uniform(*CANONICAL_ALTITUDE)) if seed == 0 else 0.0
     return UavPose(pos=(round(x, 4), round(y, 4), round(z, 4)), yaw_deg=round(yaw, 3))
 
 
@@ -84,7 +128,7 @@ def _check_start(task: TaskSpec, start: UavPose, objects: list) -> None:  # type
     for obj in objects:
         kind = object_kind(obj.kind)
         top = obj.pos[2] + kind.size[2]
-        if kind.movable or top < start.pos[2] - OBSERVE_DEPTH:
+        if top < start.pos[2] - OBSERVE_DEPTH - OBSERVE_GAP:
             continue
         corners = rect_corners(obj.pos, kind.size[:2], obj.yaw_deg)
         dist = point_rect_distance(start.pos, corners)
@@ -99,6 +143,8 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"seed must be a non-negative integer, got {seed!r}")
     reasons: dict[str, int] = {}
+    best: tuple[float, Episode] | None = None  # the most legible episode short of the sizes
+    tries = 0
     for attempt in range(MAX_ATTEMPTS):
         rng = _rng(task.id, seed, attempt)
         try:
@@ -106,29 +152,72 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
             parts = part_refs(objects)
             builder = GroundTruthBuilder(objects, parts)
             target, front = builder.first_reference(task.arm_steps)
-            start = _sample_start(task, seed, rng, target, front)
-            _check_start(task, start, objects)
-            plan, poses = builder.build(start, task.arm_steps)
+            level = _sample_start(task, seed, rng, target, front)
         except (AmbiguousGeometry, ValueError) as exc:
-            key = str(exc).split(" ")[0] if not isinstance(exc, AmbiguousGeometry) else str(exc)
-            reasons[key] = reasons.get(key, 0) + 1
+            _count(reasons, exc)
             continue
-        return Episode(
-            task_id=task.id,
-            seed=seed,
-            suite=task.suite,
-            environment=task.environment,
-            instructions=task.instructions,
-            objects=tuple(objects),
-            parts=tuple(parts),
-            uav_start=start,
-            lighting=_lighting(task.id, seed),
-            gt_plan=tuple(plan),
-            gt_uav_poses=tuple(poses),
-            goals=task.goals,
-        )
+        working = APPROACH.operating_altitude(float(target[2]))
+        heights = [level.pos[2]] if seed == 0 else start_altitudes(task.id, seed, attempt, working)
+        for z in heights:
+            start = UavPose(pos=(level.pos[0], level.pos[1], z), yaw_deg=level.yaw_deg)
+            try:
+                _check_start(task, start, objects)
+                plan, poses = builder.build(start, task.arm_steps)
+                episode = _episode(task, seed, objects, parts, start, plan, poses)
+                views = third_person_views(episode)
+                problem = frame_problem(episode, views)
+                if problem is not None:
+                    raise AmbiguousGeometry(problem)
+            except ValueError as exc:
+                _count(reasons, exc)
+                continue
+            # The first start altitude the geometry allows is the attempt's; the sizes judge
+            # the attempt, never the altitude (a low start frames tighter).
+            sizes = object_pixel_sizes(episode, views=views)
+            episode = episode.model_copy(update={"object_px": sizes})
+            score = legibility_score(episode, sizes)
+            if score >= 1.0 or seed == 0:
+                return episode
+            tries += 1
+            if best is None or score > best[0]:
+                best = (score, episode)
+            if tries >= LEGIBLE_TRIES:
+                return best[1]
+            break
+    if best is not None:
+        return best[1]
     top = sorted(reasons.items(), key=lambda kv: -kv[1])[:3]
     raise EpisodeGenerationError(
         f"task {task.id!r} seed {seed}: no valid layout in {MAX_ATTEMPTS} attempts "
         f"(most common: {top})"
+    )
+
+
+def _count(reasons: dict[str, int], exc: ValueError) -> None:
+    key = str(exc).split(" ")[0] if not isinstance(exc, AmbiguousGeometry) else str(exc)
+    reasons[key] = reasons.get(key, 0) + 1
+
+
+def _episode(
+    task: TaskSpec,
+    seed: int,
+    objects: list[EpisodeObject],
+    parts: list[PartRef],
+    start: UavPose,
+    plan: list[UavStep | ArmStep],
+    poses: list[UavPose],
+) -> Episode:
+    return Episode(
+        task_id=task.id,
+        seed=seed,
+        suite=task.suite,
+        environment=task.environment,
+        instructions=task.instructions,
+        objects=tuple(objects),
+        parts=tuple(parts),
+        uav_start=start,
+        lighting=_lighting(task.id, seed),
+        gt_plan=tuple(plan),
+        gt_uav_poses=tuple(poses),
+        goals=task.goals,
     )

@@ -168,6 +168,7 @@ def build_prompt(
         image=lambda view: _SLOT.format(view),
         object_ids=order if config.object_list else None,
         scene=scene_text(episode, order) if config.scene_as_text else None,
+        altitude=episode.uav_start.pos[2],
         instruction=episode.instruction(config.instruction),
     )
     user = _user_parts(text)

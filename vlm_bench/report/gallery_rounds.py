@@ -80,7 +80,7 @@ def attach_round_views(
 ) -> None:
     """Render each replan's views by executing the rounds before it (module doc); ``url``
     turns (round, view, JPEG bytes) into the image's URL."""
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.parsing import parse_plan
     from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, replay_rounds
     from vlm_bench.runner.plan_executor import record_plan
@@ -90,7 +90,7 @@ def attach_round_views(
     if not cards or first is None or record.rounds is None:
         return
     plans = [tuple(first)]
-    ids = make_episode(record.task_id, record.seed).object_ids()
+    ids = get_episode(record.task_id, record.seed).object_ids()
     for row in record.rounds:
         steps = parse_plan(row.raw_output, ids).valid_steps() if row.parse is not None else []
         plans.append(tuple(steps[: len(row.plan or ())]))

@@ -48,10 +48,10 @@ class EpisodeViews:
 
     def views(self, task_id: str, seed: int) -> dict[str, bytes]:
         """JPEG bytes of each view found (all four when rendering is allowed)."""
-        from vlm_bench.episodes import make_episode
+        from vlm_bench.episodes import get_episode
         from vlm_bench.runner.cached_snapshots import SnapshotSource, snapshot_key
 
-        episode = make_episode(task_id, seed)
+        episode = get_episode(task_id, seed)
         key = snapshot_key(episode, self.size, self.labels)
         pngs: dict[str, bytes] = {
             v: png for v in VIEWS if (png := self.cache.get(key, v)) is not None

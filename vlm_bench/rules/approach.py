@@ -26,7 +26,7 @@ DECISION_MARGIN = 0.15
 """m: no working point lies this close to the reach limit (in reach or not could be either)."""
 REACH_MARGIN = 0.06
 """m: a move leaves its working point at least this far inside reach."""
-VERTICAL_MARGIN = 0.06
+VERTICAL_MARGIN = 0.10
 """m: no altitude error lies this close to the vertical threshold."""
 
 

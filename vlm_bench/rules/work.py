@@ -10,7 +10,7 @@ from pydantic import Field
 
 from vlm_bench.catalog.world_catalog import object_kinds
 from vlm_bench.types.base import Frozen
-from vlm_bench.types.geometry import APPROACH, ApproachGeometry
+from vlm_bench.types.geometry import APPROACH, UAV_ROTOR_SPAN, ApproachGeometry
 
 CONTAINER_FLOOR = 0.012
 """m: a container's inner floor above its base; what is placed in it rests there."""
@@ -56,6 +56,7 @@ class RuleNumbers(Frozen):
     sector_deg: float = Field(description="Width of each direction sector (deg).")
     drawer_pull: float = Field(description="How far a pulled drawer opens (m).")
     max_move: float = Field(description="Longest single move (m).")
+    rotor_span: float = Field(description="The UAV across, rotor tip to rotor tip (m).")
     container_floor: float = Field(description="A container's floor above its base (m).")
     drawer_floor_below_handle: float = Field(description="A drawer's floor below its handle (m).")
     drawer_inside_behind_handle: float = Field(
@@ -79,6 +80,7 @@ def rule_numbers(geo: ApproachGeometry = APPROACH) -> RuleNumbers:
         sector_deg=SECTOR_DEG,
         drawer_pull=DRAWER_PULL,
         max_move=geo.max_move,
+        rotor_span=UAV_ROTOR_SPAN,
         container_floor=CONTAINER_FLOOR,
         drawer_floor_below_handle=DRAWER_FLOOR_BELOW_HANDLE,
         drawer_inside_behind_handle=DRAWER_INSIDE_BEHIND_HANDLE,

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.parsing import plan_json_schema
 from vlm_bench.prompting import build_prompt, render_text
 from vlm_bench.runner.cached_snapshots import SnapshotSource, check_resolution
@@ -93,7 +93,7 @@ def preview_request(config: RunConfig, snapshot_cache: Path | None = None) -> Pr
     """
     check_resolution(config.resolution)
     ref = select_episodes(config)[0]
-    episode = make_episode(ref.task_id, ref.seed)
+    episode = get_episode(ref.task_id, ref.seed)
     cache = SnapshotCache(snapshot_cache) if snapshot_cache is not None else None
     source = run_snapshots(config, cache)
     try:

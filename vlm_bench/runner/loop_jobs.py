@@ -75,13 +75,13 @@ class RoundsReplayed:
 
 def replay_rounds(job: LoopJob) -> RoundsReplayed:
     """Execute ``job``'s rounds in this process (see module doc)."""
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.executor.live_episode import LiveEpisode
     from vlm_bench.executor.live_state import episode_now, render_now
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
     route_mujoco_log()
-    episode = make_episode(job.task_id, job.seed)
+    episode = get_episode(job.task_id, job.seed)
     live = LiveEpisode(episode, executor_config(episode, job.uav_noise), perturb=job.perturb)
     executions: list[ExecutionSummary] = []
     for steps in job.rounds:

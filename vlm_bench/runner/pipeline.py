@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 from vlm_bench.backends import Backend
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import VlmBenchError
 from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.episode_request import episode_request
@@ -206,7 +206,7 @@ class EpisodePipeline:
     def _episode_of(self, ref: EpisodeRef) -> Episode:
         ep = self._episode
         if ep is None or ep.task_id != ref.task_id or ep.seed != ref.seed:
-            ep = self._episode = make_episode(ref.task_id, ref.seed)
+            ep = self._episode = get_episode(ref.task_id, ref.seed)
         return ep
 
     def _prepare(self, ref: EpisodeRef) -> _Prepared:

@@ -102,7 +102,7 @@ which keeps the compiled scene of the episode it last replayed."""
 
 def replay(job: ReplayJob) -> Replayed:
     """Execute ``job`` in this process (what every pool runs)."""
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
     route_mujoco_log()  # a worker writes no MUJOCO_LOG.TXT either
@@ -110,7 +110,7 @@ def replay(job: ReplayJob) -> Replayed:
     executor = _EXECUTORS.get(setting)
     if executor is None:
         executor = _EXECUTORS[setting] = PlanExecutor(job.uav_noise, job.perturb)
-    episode = make_episode(job.task_id, job.seed)
+    episode = get_episode(job.task_id, job.seed)
     return executor.run(episode, list(job.steps))
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
 from vlm_bench.runner.progress import progress_bar
@@ -109,7 +109,7 @@ def rescore_run(
                     if record.ok:
                         ep_key = (record.task_id, record.seed)
                         if ep_key not in episodes:
-                            episodes[ep_key] = make_episode(record.task_id, record.seed)
+                            episodes[ep_key] = get_episode(record.task_id, record.seed)
                         new = _rescored(store, record, episodes[ep_key], config.scoring)
                         if replays is not None:
                             finished = replays.submit(episodes[ep_key], new)
@@ -164,7 +164,7 @@ def score_output(
     scoring: ScoringConfig | None = None,
 ) -> OutputScore:
     """Score one raw model output against an episode's GT (the ``score`` command)."""
-    episode = make_episode(task_id, seed)
+    episode = get_episode(task_id, seed)
     ev = evaluate_output(text, episode, scoring or ScoringConfig())
     return OutputScore(
         task_id=episode.task_id,

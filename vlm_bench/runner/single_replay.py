@@ -11,7 +11,7 @@ from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.parsing import parse_plan
 from vlm_bench.runner.plan_executor import PlanExecutor, executor_config
@@ -111,7 +111,7 @@ def replay_plan(
 
     if uav_noise < 0:
         raise ConfigError(f"uav_noise must be >= 0, got {uav_noise:g}")
-    episode = make_episode(task_id, seed)
+    episode = get_episode(task_id, seed)
     if plan is None:
         steps, source = list(episode.gt_plan), "GT"
     elif isinstance(plan, str):

@@ -12,13 +12,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.catalog.world_catalog import environment, object_kind
-from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE
+from vlm_bench.sim.constants import (
+    CAM_OVERHEAD,
+    CAM_SIDE,
+    UAV_HEADING_TAIL_X,
+    UAV_HEADING_TIP_X,
+    UAV_HEADING_Z,
+)
 from vlm_bench.sim.framing import (
     closest_fit,
     image_span,
@@ -26,9 +32,11 @@ from vlm_bench.sim.framing import (
     segment_hits_boxes,
     view_xyaxes,
 )
-from vlm_bench.sim.uav import HEADING_TAIL_X, HEADING_TIP_X, HEADING_Z
 from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode, EpisodeObject
+
+if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
+    import mujoco
 
 OVERHEAD_FOVY = 30.0
 OVERHEAD_TILT_DEG = 11.3  # from straight down towards +y, so object heights read
@@ -40,7 +48,7 @@ MAX_FOVY = 75.0  # widest field of view used to bring a camera inside the room
 FOVY_STEP = 5.0
 WALL_CLEARANCE = 0.3  # least distance from a camera to the room's walls (m)
 UAV_MARGIN = 0.6  # rotor tips reach 0.5 m from the UAV's centre, the heading arrow 0.52 m
-OBJECT_MARGIN = 0.05  # added to half an object's largest side (m)
+OBJECT_MARGIN = 0.02  # added to half an object's box diagonal, so the view holds it whole (m)
 PART_MARGIN = 0.1  # around a drawer handle or knob (m)
 # The robot as spheres (offset below the UAV centre, radius; m): airframe, then the hanging arm.
 ROBOT_SPHERES = ((0.0, 0.5), (0.35, 0.2), (0.65, 0.2))
@@ -79,7 +87,7 @@ def framing_points(episode: Episode) -> tuple[Vec, Vec]:
         kind = object_kind(obj.kind)
         if is_framed_object(obj, referenced):
             points.append(np.array(obj.pos) + np.array([0.0, 0.0, kind.size[2] / 2]))
-            margins.append(0.5 * max(kind.size[:2]) + OBJECT_MARGIN)
+            margins.append(0.5 * math.hypot(*kind.size) + OBJECT_MARGIN)
     for part in episode.parts:
         if part.id in referenced:
             points.append(np.array(part.handle))
@@ -132,8 +140,9 @@ def heading_arrow_ends(episode: Episode) -> tuple[Vec, Vec]:
     """World positions of the tail and tip of the UAV's heading arrow at the start."""
     start, yaw = np.array(episode.uav_start.pos), math.radians(episode.uav_start.yaw_deg)
     front = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-    lift = np.array([0.0, 0.0, HEADING_Z])
-    return start + HEADING_TAIL_X * front + lift, start + HEADING_TIP_X * front + lift
+    lift = np.array([0.0, 0.0, UAV_HEADING_Z])
+    tail, tip = UAV_HEADING_TAIL_X, UAV_HEADING_TIP_X
+    return start + tail * front + lift, start + tip * front + lift
 
 
 @dataclass(frozen=True)
@@ -222,16 +231,30 @@ def side_camera(
     return forward, pos, fovy
 
 
-def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
-    """Add ``overhead`` and ``side`` cameras framing the episode's work area."""
+@dataclass(frozen=True)
+class CameraView:
+    """A fixed camera: position (m, world), viewing direction and vertical field of view."""
+
+    pos: Vec
+    forward: Vec
+    fovy: float
+
+
+def third_person_views(episode: Episode) -> dict[str, CameraView]:
+    """The ``overhead`` and ``side`` cameras framing the episode's work area."""
     points, margins = framing_points(episode)
     half_room = environment(episode.environment).room_half_size - WALL_CLEARANCE
     forward = overhead_forward()
     pos, fovy = place_camera(forward, OVERHEAD_FOVY, points, margins, half_room)
-    spec.worldbody.add_camera(
-        name=CAM_OVERHEAD, pos=pos.tolist(), xyaxes=view_xyaxes(forward), fovy=fovy
-    )
+    views = {CAM_OVERHEAD: CameraView(pos, forward, fovy)}
     forward, pos, fovy = side_camera(episode, points, margins, half_room)
-    spec.worldbody.add_camera(
-        name=CAM_SIDE, pos=pos.tolist(), xyaxes=view_xyaxes(forward), fovy=fovy
-    )
+    views[CAM_SIDE] = CameraView(pos, forward, fovy)
+    return views
+
+
+def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
+    """Add ``overhead`` and ``side`` cameras framing the episode's work area."""
+    for name, view in third_person_views(episode).items():
+        spec.worldbody.add_camera(
+            name=name, pos=view.pos.tolist(), xyaxes=view_xyaxes(view.forward), fovy=view.fovy
+        )

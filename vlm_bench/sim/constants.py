@@ -20,6 +20,9 @@ ROTOR_GEOM_PREFIX = "uav_rotor"
 UAV_HEADING_SHAFT = "uav_heading_shaft"
 UAV_HEADING_HEAD = "uav_heading_head"
 UAV_HEADING_GEOMS = (UAV_HEADING_SHAFT, UAV_HEADING_HEAD)
+UAV_HEADING_Z = 0.112  # m above the UAV's origin: the arrow's mid-plane, just above the top plate
+UAV_HEADING_TAIL_X = -0.04  # m along body +x: the arrow's tail, just ahead of the mast
+UAV_HEADING_TIP_X = 0.52  # m along body +x: its tip, a little beyond the rotor tips
 
 # Panda arm (mounted under the UAV, base pointing down).
 ARM_PREFIX = "panda_"

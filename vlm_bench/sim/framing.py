@@ -14,15 +14,23 @@ from numpy.typing import NDArray
 from vlm_bench.types.base import FloatArray as Vec
 
 
+def _cross(a: Vec, b: Vec) -> Vec:
+    """Cross product of two 3-vectors (``np.cross`` is slow on single vectors)."""
+    out: Vec = np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+    return out
+
+
 def view_xyaxes(forward: Vec) -> list[float]:
     """MuJoCo ``xyaxes`` (image right, image up) of a camera looking along ``forward``."""
     forward = forward / np.linalg.norm(forward)
     up_hint = np.array([0.0, 0.0, 1.0])
     if abs(float(forward @ up_hint)) > 0.999:  # looking straight down: pick +y as image up
         up_hint = np.array([0.0, 1.0, 0.0])
-    right = np.cross(forward, up_hint)
+    right = _cross(forward, up_hint)
     right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
+    up = _cross(right, forward)
     return [*right.tolist(), *up.tolist()]
 
 

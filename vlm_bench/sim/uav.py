@@ -18,11 +18,12 @@ import mujoco
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.materials import solid_material
 from vlm_bench.types.episode import UavPose
+from vlm_bench.types.geometry import UAV_ARM_LENGTH, UAV_ROTOR_RADIUS
 
 UAV_MASS = 8.0  # airframe, motors and battery (kg)
 UAV_INERTIA = (0.30, 0.30, 0.52)  # diagonal (kg·m²), body frame
-ARM_LENGTH = 0.33  # chassis centre to motor axis (m)
-ROTOR_RADIUS = 0.17
+ARM_LENGTH = UAV_ARM_LENGTH  # chassis centre to motor axis (m)
+ROTOR_RADIUS = UAV_ROTOR_RADIUS
 ROTOR_Z = 0.065  # rotor disc height above the body origin (m)
 CAMERA_PITCH_DEG = 35.0
 CAMERA_FOVY = 75.0
@@ -43,11 +44,11 @@ HEADING_RGBA = (1.0, 0.45, 0.0, 1.0)  # orange, as rendered
 # strong emission keeps the hue from lit top faces (light up to ~1.05) to shadows (~0.1).
 HEADING_EMISSION = 1.9
 HEADING_MAX_LIGHT = 1.05
-HEADING_Z = 0.112  # mid-plane, just above the top plate
+HEADING_Z = c.UAV_HEADING_Z
 HEADING_HALF_THICKNESS = 0.006
-HEADING_TAIL_X = -0.04  # just ahead of the mast
+HEADING_TAIL_X = c.UAV_HEADING_TAIL_X
 HEADING_NECK_X = 0.30  # where the shaft meets the head
-HEADING_TIP_X = 0.52  # a little beyond the rotor tips
+HEADING_TIP_X = c.UAV_HEADING_TIP_X
 HEADING_SHAFT_HALF_WIDTH = 0.04
 HEADING_HEAD_HALF_WIDTH = 0.13
 

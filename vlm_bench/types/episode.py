@@ -65,6 +65,11 @@ class Episode(Frozen):
         description="Expected UAV pose after each GT step (ideal kinematics)."
     )
     goals: tuple[Goal, ...]
+    object_px: dict[str, dict[str, float]] = Field(
+        default_factory=dict,
+        description="Task object id -> third-person view -> its size there at 448² (px), "
+        "projected from the geometry (vlm_bench.sim.view_sizes); empty in older files.",
+    )
 
     def instruction(self, variant: InstructionVariant) -> str:
         """The instruction text of one variant."""

@@ -12,6 +12,13 @@ from pydantic import Field
 
 from vlm_bench.types.base import Frozen
 
+UAV_ARM_LENGTH = 0.33
+"""m: from the UAV's centre to each of its four motor axes (quad-X, arms at ±45° and ±135°)."""
+UAV_ROTOR_RADIUS = 0.17
+"""m: radius of each rotor disc."""
+UAV_ROTOR_SPAN = round(2 * (UAV_ARM_LENGTH + UAV_ROTOR_RADIUS), 2)
+"""m: the UAV across, from rotor tip to rotor tip along a diagonal (the prompt's ruler)."""
+
 
 class ApproachGeometry(Frozen):
     """How the UAV approaches an object and when an object counts as in reach."""

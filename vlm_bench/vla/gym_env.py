@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, ValidationError
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
 from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.plan_replay import episode_scene
@@ -112,7 +112,7 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
         self.observation_config = ObservationConfig(
             views=tuple(views), size=render_size, shadows=shadows
         )
-        self.episode: Episode = make_episode(task_id, seed)
+        self.episode: Episode = get_episode(task_id, seed)
         low, high = action_bounds(*joint_limits(episode_scene(self.episode, self.config).model))
         self.action_space = spaces.Box(low.astype(np.float32), high.astype(np.float32))
         images = {
@@ -152,7 +152,7 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
         # gymnasium passes numpy integers at times; episodes take plain ints
         episode_seed = self.episode.seed if episode_seed is None else int(episode_seed)
         if (task, episode_seed) != (self.episode.task_id, self.episode.seed):
-            self.episode = make_episode(task, episode_seed)
+            self.episode = get_episode(task, episode_seed)
         self.variant = opts.variant or self.variant
         self._loop = SimLoop(episode_scene(self.episode, self.config), self.config)
         self._steps = 0

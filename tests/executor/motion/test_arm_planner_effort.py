@@ -8,6 +8,7 @@ from collections.abc import Iterable
 
 import numpy as np
 import pytest
+from incidents import incident_episode
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.motion.arm_core import ArmCore
@@ -53,7 +54,7 @@ def test_pruned_planning_replays_as_full_counting_does(monkeypatch: pytest.Monke
     """standard_pick_place seed 9: the release is planned over ~800 candidates, most of them
     with contacts; counting every contact of every candidate replays the same episode (an
     off-by-one in the pruning changes its simulated time)."""
-    episode = make_episode("standard_pick_place", 9)
+    episode = incident_episode("standard_pick_place", 9)
 
     def replay() -> dict[str, object]:
         return execute_plan(episode, episode.gt_plan).model_dump(exclude={"wall_time_s"})

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from incidents import incident_episode
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
@@ -78,7 +79,7 @@ def test_a_long_pull_keeps_the_handle_in_the_fingers() -> None:
     stroke would whip its base joint round at 2 rad/s and twist the bar out of the fingers
     (it opened only 0.27 m); the arm's share is cut to what it follows slowly, the UAV carries
     the rest."""
-    episode = make_episode("drawer_interaction", 1)
+    episode = incident_episode("drawer_interaction", 1)
     result = execute_plan(episode, episode.gt_plan[:3])
     assert [s.status for s in result.steps] == ["ok", "ok", "ok"], result.failure_reason
     assert result.goals[0]  # drawer_open(top_drawer)

@@ -85,14 +85,15 @@ def test_a_curved_banana_is_held_on_its_middle_not_its_bounding_box() -> None:
     """Yawed 19°, the banana's world bounding box is centred 1.4 cm off its body axis and
     2.3 cm off the middle of the arc; the fingers (1 cm clear each side) must close on the
     middle section: the grasp is centred on the collision geoms between them."""
-    from vlm_bench.episodes.generate import make_episode
+    from incidents import incident_episode
+
     from vlm_bench.executor.sim_loop import SimLoop
     from vlm_bench.executor.skills.grasping import Grasper
     from vlm_bench.sim.objects.bounds import object_bounds
     from vlm_bench.sim.objects.groceries import _banana_axis
     from vlm_bench.sim.scene import build_scene
 
-    episode = make_episode("drawer_interaction", 1)
+    episode = incident_episode("drawer_interaction", 1)
     scene = build_scene(episode)
     grasper = Grasper(SimLoop(scene))
     body = scene.data.body("banana")

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from incidents import incident_episode
 
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes.generate import make_episode
@@ -103,7 +104,7 @@ def test_a_held_object_is_carried_clear_of_what_the_flight_stops_at() -> None:
     drawer out in front of the cabinet)."""
     from vlm_bench.sim.constants import part_joint
 
-    episode = make_episode("store_and_close", 3)
+    episode = incident_episode("store_and_close", 3)
     scene = build_scene(episode)
     loop = SimLoop(scene)
     run = _Run(episode, loop, default_skills(loop))
@@ -120,7 +121,7 @@ def test_the_raise_after_a_pick_keeps_off_a_whipping_straight_line() -> None:
     """visual_combination_blue_red seed 4: raised straight up to carrying height, the arm's
     IK swung two joints 1.7 rad and drove the base joint onto its limit, and the cup fell out
     of the fingers. The raise now takes a straight line only where it is steady."""
-    episode = make_episode("visual_combination_blue_red", 4)
+    episode = incident_episode("visual_combination_blue_red", 4)
     loop = SimLoop(build_scene(episode))
     run = _Run(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the blue cup
@@ -154,7 +155,7 @@ def test_a_cleanser_is_held_across_its_nozzle() -> None:
     """function_detergent seed 4: closing along the nozzle, the flat pads squeezed the round
     cap alone and it rolled out from between them. Closed across it, one pad on the
     nozzle's end, the bottle comes up in the hand."""
-    episode = make_episode("function_detergent", 4)
+    episode = incident_episode("function_detergent", 4)
     loop = SimLoop(build_scene(episode))
     run = _Run(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the cleanser
@@ -168,7 +169,7 @@ def test_a_glide_that_drives_a_joint_onto_its_limit_is_refused() -> None:
     """variant_chocolate_box seed 2: the glide over the storage box ended with the base joint
     at its limit; the servo strayed and the release was missed by more than 6 cm. A glide
     reaching a limit is now refused, and the box goes in another way."""
-    episode = make_episode("variant_chocolate_box", 2)
+    episode = incident_episode("variant_chocolate_box", 2)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
 
@@ -204,7 +205,7 @@ def test_the_stow_after_a_release_climbs_clear_of_a_mug_beside_it() -> None:
     and the yellow mug stays upright for its own pick."""
     import math
 
-    episode = make_episode("color_matched_sorting", 8)
+    episode = incident_episode("color_matched_sorting", 8)
     loop = SimLoop(build_scene(episode))
     run = _Run(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the black mug, place it
@@ -220,7 +221,7 @@ def test_a_flight_no_turn_clears_climbs_over_a_basket() -> None:
     the workbench ended with the forearm in the yellow basket, knocking the nut in the hand
     onto its rim (it was let go outside). No turn of the base joint clears that flight, so
     the UAV climbs first and flies higher; nothing touches the basket until the place."""
-    episode = make_episode("variant_green_nut", 7)
+    episode = incident_episode("variant_green_nut", 7)
     loop = SimLoop(build_scene(episode))
     run = _Run(episode, loop, default_skills(loop))
     z0 = None
@@ -239,14 +240,15 @@ def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     """variant_chocolate_box seed 8: the way down into the storage box planned for the
     hand's heading passed the rim 1 mm off; the swaying arm hit it and stopped 6 cm short
     of the release. A heading whose way down keeps 1 cm clear is now preferred."""
-    episode = make_episode("variant_chocolate_box", 8)
+    episode = incident_episode("variant_chocolate_box", 8)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
 
 
 def _grasper_after_the_flight(task: str, seed: int) -> tuple[Episode, Grasper]:
-    """The episode and a grasper on its scene after the GT plan's first step (a UAV move)."""
-    episode = make_episode(task, seed)
+    """The episode (its incident scene) and a grasper on its scene after the GT plan's first
+    step (a UAV move)."""
+    episode = incident_episode(task, seed)
     loop = SimLoop(build_scene(episode))
     run = _Run(episode, loop, default_skills(loop))
     assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
@@ -310,7 +312,7 @@ def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
     where no top-down reach gets (the elbow folds onto its limit), and every move to one of
     the working radii was longer than a skill may fly. The UAV now backs off as far as it
     may, and the cube is put in the basket."""
-    episode = make_episode("multi_object_sorting", 1)
+    episode = incident_episode("multi_object_sorting", 1)
     scene = build_scene(episode)
     arm = Hand(SimLoop(scene))
     base = scene.data.body(c.ARM_BASE_BODY).xpos
@@ -346,7 +348,7 @@ def test_a_tall_object_is_set_down_standing_in_the_bowl() -> None:
     """slim_object_in_bowl seed 8: the 21 cm cleanser, let go 2 cm above the bowl's curved
     floor, rocked and toppled out over the rim. The hand now lowers it until it touches, so
     it stays standing inside."""
-    episode = make_episode("slim_object_in_bowl", 8)
+    episode = incident_episode("slim_object_in_bowl", 8)
     tilt: list[float] = []
     result = execute_plan(
         episode,
@@ -363,7 +365,7 @@ def test_a_tall_object_is_centred_over_the_bowl_before_it_is_set_down() -> None:
     floor) stood on the curved wall, it slid, toppled and tipped the bowl over. The hand now
     moves it over the centre first: it ends standing near there (leaning a few degrees on the
     wall, which 1 mm of slack leaves no way round), and the bowl stays level."""
-    episode = make_episode("slim_object_in_bowl", 2)
+    episode = incident_episode("slim_object_in_bowl", 2)
     last: dict[str, float] = {}
 
     def watch(loop: SimLoop) -> None:
@@ -410,7 +412,7 @@ def test_a_drawer_release_turns_the_uav_where_the_base_joint_cannot_reach() -> N
     the base joint (5.8 rad of travel) leaves no way down into the open drawer that misses its
     front: the place failed, "top_drawer is out of reach". The hover above the drawer is now
     also planned with the UAV turned; it turns there, places the banana and turns back."""
-    episode = make_episode("drawer_interaction", 3)
+    episode = incident_episode("drawer_interaction", 3)
     yaw: list[float] = []
     result = execute_plan(
         episode, episode.gt_plan, observers=[lambda loop: yaw.append(loop.uav_yaw_deg())]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from incidents import incident_episode
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import execute_plan
@@ -59,7 +60,7 @@ def test_the_way_down_to_a_push_keeps_off_the_cube() -> None:
     """preposition_by_dont seed 3: the only plan tried from the UAV's pose swept the arm
     across the table and knocked the cube 0.16 m aside before the push began (it then moved
     0.06 m the wrong way). Clear plans from other UAV poses now come first."""
-    episode = make_episode("preposition_by_dont", 3)
+    episode = incident_episode("preposition_by_dont", 3)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
     assert result.goals == (True,)
@@ -70,7 +71,7 @@ def test_a_push_stroke_is_planned_along_the_line_the_hand_takes() -> None:
     lost the line halfway, the UAV carried the hand the rest of the way, drifted 3 cm sideways
     and slid it past the box, which stayed on the table. The stroke's line is now previewed,
     and where IK cannot follow it the UAV carries the hand from the start."""
-    episode = make_episode("abstract_intent_clear", 7)
+    episode = incident_episode("abstract_intent_clear", 7)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
     assert result.goals == (True,)

@@ -1,0 +1,120 @@
+"""How large each task object appears in the third-person views, from geometry alone.
+
+An episode is judged legible before any rendering (the episode generator redraws a layout that
+is not, as it redraws one whose reach decision is too close to call): each task object
+(:func:`~vlm_bench.sim.cameras.task_objects`) and the UAV lie wholly inside the ``overhead`` and
+``side`` frames, and each task object is at least :data:`MIN_OBJECT_PX` across in one of them
+(:data:`MIN_SMALL_PART_PX` for a part under :data:`SMALL_PART` in every dimension: bolts, nuts)
+at :data:`~vlm_bench.sim.constants.DEFAULT_IMAGE_SIZE` px. "Across" is the shorter side of the
+bounding box of the object's box projected by the camera, shrunk by :data:`BOX_TO_SHAPE` (an
+object fills less of its image than its bounding box, and a cylinder less than its square
+box); the rendered sizes (:mod:`vlm_bench.sim.footprint`) are tested against the same limits.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vlm_bench.catalog.world_catalog import object_kind
+from vlm_bench.rules import rotate_xy
+from vlm_bench.sim.cameras import (
+    CameraView,
+    framing_points,
+    task_objects,
+    third_person_views,
+)
+from vlm_bench.sim.constants import DEFAULT_IMAGE_SIZE
+from vlm_bench.sim.framing import fits, view_xyaxes
+from vlm_bench.types.base import FloatArray as Vec
+from vlm_bench.types.episode import Episode, EpisodeObject
+
+MIN_OBJECT_PX = 12
+"""px at 448²: least size of a task object in its better third-person view."""
+MIN_SMALL_PART_PX = 6
+"""px at 448²: the same for a small part (:data:`SMALL_PART`)."""
+SMALL_PART = 0.04
+"""m: an object whose every dimension is under this is a small part (bolt, nut)."""
+BOX_TO_SHAPE = 0.7
+"""How much of its projected bounding box's shorter side an object is taken to fill."""
+
+
+def is_small_part(kind: str) -> bool:
+    """Whether objects of ``kind`` are small parts, held to :data:`MIN_SMALL_PART_PX`."""
+    return (
+        max(object_kind(kind).size[:2]) < 2 * SMALL_PART
+        and min(object_kind(kind).size) < SMALL_PART
+    )
+
+
+def min_pixels(kind: str) -> int:
+    """Least size (px at 448²) an object of ``kind`` must have in its better view."""
+    return MIN_SMALL_PART_PX if is_small_part(kind) else MIN_OBJECT_PX
+
+
+def box_corners(obj: EpisodeObject) -> Vec:
+    """The eight corners (m, world) of an object's bounding box."""
+    sx, sy, sz = object_kind(obj.kind).size
+    out = []
+    for dx in (-sx / 2, sx / 2):
+        for dy in (-sy / 2, sy / 2):
+            rx, ry = rotate_xy(dx, dy, obj.yaw_deg)
+            for z in (0.0, sz):
+                out.append((obj.pos[0] + rx, obj.pos[1] + ry, obj.pos[2] + z))
+    return np.array(out, dtype=np.float64)
+
+
+def project(view: CameraView, points: Vec, size: int) -> Vec:
+    """Pixel coordinates (u right, v up, from the image centre) of world points."""
+    right, up = np.array(view_xyaxes(view.forward)).reshape(2, 3)
+    fwd = view.forward / np.linalg.norm(view.forward)
+    rel = points - view.pos
+    focal = size / (2 * math.tan(math.radians(view.fovy / 2)))
+    depth = rel @ fwd
+    uv: Vec = focal * np.stack([rel @ right, rel @ up], axis=1) / depth[:, None]
+    return uv
+
+
+def projected_size(view: CameraView, obj: EpisodeObject, size: int) -> float:
+    """Shorter side (px) of the bounding box of ``obj``'s box in ``view``, times
+    :data:`BOX_TO_SHAPE`."""
+    uv = project(view, box_corners(obj), size)
+    span = uv.max(axis=0) - uv.min(axis=0)
+    return round(BOX_TO_SHAPE * float(span.min()), 1)
+
+
+def object_pixel_sizes(
+    episode: Episode,
+    size: int = DEFAULT_IMAGE_SIZE,
+    views: dict[str, CameraView] | None = None,
+) -> dict[str, dict[str, float]]:
+    """Task object id → view → its size (px) by :func:`projected_size` (``views``: the
+    episode's :func:`~vlm_bench.sim.cameras.third_person_views`, computed if not given)."""
+    views = views if views is not None else third_person_views(episode)
+    by_id = {o.id: o for o in episode.objects}
+    return {
+        oid: {name: projected_size(view, by_id[oid], size) for name, view in views.items()}
+        for oid in task_objects(episode)
+    }
+
+
+def frame_problem(episode: Episode, views: dict[str, CameraView] | None = None) -> str | None:
+    """Why a third-person view cuts off part of the work area (the UAV, a task object or a
+    part the plan names), or None."""
+    points, margins = framing_points(episode)
+    views = views if views is not None else third_person_views(episode)
+    for name, view in views.items():
+        if not fits(view.pos, view.forward, view.fovy, points, margins):
+            return f"the {name} view cuts off part of the work area"
+    return None
+
+
+def legibility_score(episode: Episode, sizes: dict[str, dict[str, float]]) -> float:
+    """The least ratio, over task objects, of an object's size in its better view (``sizes``:
+    :func:`object_pixel_sizes`) to :func:`min_pixels`: legible when at least 1."""
+    kinds = {o.id: o.kind for o in episode.objects}
+    return min(
+        (max(by_view.values()) / min_pixels(kinds[oid]) for oid, by_view in sizes.items()),
+        default=float("inf"),
+    )
