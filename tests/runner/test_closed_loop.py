@@ -4,6 +4,7 @@ keep every round, the cache answers per round, and open-loop runs do not change.
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
@@ -18,7 +19,7 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.loop_replays import LoopReplays
-from vlm_bench.runner.replays import MAX_ATTEMPTS, WORKER_DIED
+from vlm_bench.runner.replays import MAX_ATTEMPTS, REPLAY_LOST, WORKER_DIED
 from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ReplayOptions
@@ -197,8 +198,44 @@ def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
     assert list(loops.drain()) == []  # round 0 failed its goals: waiting for the replan
     assert pool.restarts == 1 and len(loops.requests()) == 1
 
+
+def test_an_episode_whose_worker_keeps_dying_is_lost_and_retried_on_resume() -> None:
+    episode, record = _hop_record()
     dying = LoopReplays(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
     dying.submit(episode, record)
     (out,) = list(dying.drain())
-    assert out.loop is not None and out.loop.end == "executor_crash"
-    assert out.execution is not None and WORKER_DIED in (out.execution.failure_reason or "")
+    assert out.status == "error" and out.loop is None  # not a result: a resume runs it again
+    assert out.backend_error is not None and out.backend_error.startswith(REPLAY_LOST)
+    assert WORKER_DIED in out.backend_error and out.error_tags == ("replay_lost",)
+    assert dying.stats.lost == 1 and dying.in_flight == 0
+
+
+class _HungPool(_FlakyPool):
+    """A pool whose executions never finish (a hung worker, a lost node)."""
+
+    def __init__(self) -> None:
+        super().__init__(breaks=0)
+        self.abandoned = 0
+
+    def submit_call(self, fn: Callable[[Any], Any], job: Any) -> Future[Any]:
+        return Future()
+
+    def abandon(self) -> None:
+        self.abandoned += 1
+
+
+def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
+    episode, record = _hop_record()
+    pool = _HungPool()
+    loops = LoopReplays(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
+    loops.submit(episode, record)
+    start = time.monotonic()
+    out: list[EpisodeRecord] = []
+    while not out and time.monotonic() - start < 5:
+        out = loops.collect(block=True, timeout=0.05)
+    assert time.monotonic() - start < 2
+    (lost,) = out
+    assert lost.status == "error" and "no execution finished for 0.3 s" in (
+        lost.backend_error or ""
+    )
+    assert pool.abandoned == 1 and loops.in_flight == 0

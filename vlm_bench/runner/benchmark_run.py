@@ -138,7 +138,7 @@ def _replays(
     options = options or ReplayOptions()
     pool = make_pool(options)
     if config.loop == "closed":
-        return LoopReplays(pool, config, on_change)
+        return LoopReplays(pool, config, on_change, options.stall_s)
     return Replays(pool, config.uav_noise, on_change, options.stall_s, config.perturb)
 
 

@@ -12,6 +12,7 @@ an answer holds no plan; its record is round 0's with ``rounds`` and ``loop`` ad
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
@@ -28,17 +29,18 @@ from vlm_bench.runner.loop_rounds import (
     loop_outcome,
     ran_steps,
 )
-from vlm_bench.runner.plan_executor import crash_summary, record_plan
+from vlm_bench.runner.plan_executor import record_plan
 from vlm_bench.runner.replays import (
     MAX_ATTEMPTS,
     WORKER_DIED,
     ReplayPool,
     ReplayStats,
     broken_future,
+    lost_record,
 )
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary
+from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
 from vlm_bench.types.generation import (
     GenerationRequest,
     RequestMeta,
@@ -88,6 +90,13 @@ class LoopReplays:
         pool: Where the rounds execute.
         config: The run's configuration (loop, perturbations, prompt and view options).
         on_change: Called with (submitted, finished, running, queued) after every change.
+        stall_s: Longest time with rounds executing and none finishing (s); default:
+            :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
+
+    An execution the infrastructure loses (its worker died :data:`MAX_ATTEMPTS` times, Ray gave
+    up, or no execution finished for ``stall_s``) ends its episode as an ``error`` record
+    (:func:`~vlm_bench.runner.replays.lost_record`), which a resume runs again from the cached
+    answers; an exception of the executor stays a recorded ``executor_crash``.
     """
 
     def __init__(
@@ -95,9 +104,12 @@ class LoopReplays:
         pool: ReplayPool,
         config: RunConfig,
         on_change: Callable[[int, int, int, int], None] | None = None,
+        stall_s: float | None = None,
     ) -> None:
         self.pool = pool
         self.config = config
+        self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
+        self._last_progress = time.monotonic()
         self.stats = ReplayStats()
         self._notify = on_change
         self._live: dict[str, _Live] = {}
@@ -196,6 +208,11 @@ class LoopReplays:
             wait(set(running.values()), timeout, return_when=FIRST_COMPLETED)
         self._resend_broken()
         out: list[EpisodeRecord] = []
+        now = time.monotonic()
+        if any(f.done() for f in running.values()):
+            self._last_progress = now
+        elif running and now - self._last_progress > self.stall_s:
+            self._abandon()
         for key, future in list(running.items()):
             if not future.done():
                 continue
@@ -203,9 +220,11 @@ class LoopReplays:
             self._jobs.pop(key, None)
             try:
                 replayed = future.result()
+            # The executor's own exceptions come back as crash summaries (replay_rounds): what
+            # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
             except Exception as exc:  # noqa: BLE001  (a replay failure must not kill a run)
-                message = f"{type(exc).__name__}: {exc}"
-                replayed = RoundsReplayed((crash_summary(exc, 0.0),), None, message)
+                out.append(self._lost(key, f"{type(exc).__name__}: {exc}"))
+                continue
             record = self._advance(key, replayed)
             if record is not None:
                 out.append(record)
@@ -230,6 +249,8 @@ class LoopReplays:
             views = c.views if c.images else ()
             state = StateRequest(tuple(views), c.resolution, c.labels)
         ep = live.episode
+        if not self._running:  # the stall clock runs while executions are in flight
+            self._last_progress = time.monotonic()
         job = LoopJob(ep.task_id, ep.seed, c.uav_noise, c.perturb, tuple(live.plans), state)
         future = self._futures.get(job.key)
         if future is None:
@@ -238,6 +259,23 @@ class LoopReplays:
         self._running[key] = future
         self._jobs[key] = (job, 1)
         self._changed()
+
+    def _abandon(self) -> None:
+        """No execution finished for :attr:`stall_s`: give up those in flight (as lost)."""
+        self.pool.abandon()
+        reason = f"no execution finished for {self.stall_s:g} s (a hung worker or a lost node)"
+        for key in self._running:
+            stalled: Future[RoundsReplayed] = Future()
+            stalled.set_exception(TimeoutError(reason))
+            self._running[key] = stalled
+        self._futures.clear()
+
+    def _lost(self, key: str, reason: str) -> EpisodeRecord:
+        """The episode's record as one a resume runs again (its execution was lost)."""
+        self.stats.lost += 1
+        live = self._live.pop(key)
+        self._changed()
+        return lost_record(live.first, reason)
 
     def _resend_broken(self) -> None:
         """A worker process died, which breaks its whole pool: start new workers and send the
