@@ -12,7 +12,7 @@ from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.ik import top_down_rotation
 from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
-from vlm_bench.executor.skills.carry_raise import CARRY_SPEED, raise_to_carry
+from vlm_bench.executor.skills.carry_raise import raise_to_carry
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.release_points import (
     can_drop_into,
@@ -36,6 +36,8 @@ SET_DOWN = 0.04  # m the hand lowers a tall object at most, from its release, to
 SET_DOWN_STEP = 0.005  # m the hand lowers it per 0.1 s until it touches
 CENTRE_TOL = 0.001  # m: a tall object's middle is brought this close over its resting place...
 CENTRE_TRIES = 3  # ...in at most this many sideways moves of the hand, before it is set down
+GLIDE_SPEED = 0.1  # m/s: mean speed of the glide over a release; it turns the hand as it goes,
+# and an object gripped by its top few mm (a flat nut) creeps along the pads at 0.15 m/s
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of one
 # finger's touch (an object set down on its destination can be pushed up between the pads)
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
@@ -202,7 +204,7 @@ class Placer:
         top-down postures tilts the hand midway and swings an object hanging from the fingers
         out of them."""
         hand, loop = self.hand, self.loop
-        seconds = max(2.0, float(np.linalg.norm(drop.above - hand.tcp()[0])) / CARRY_SPEED)
+        seconds = max(2.0, float(np.linalg.norm(drop.above - hand.tcp()[0])) / GLIDE_SPEED)
         now = arm_qpos(loop.model, loop.data)
         if (done := self._glide(drop, sol, sol.shift, seconds)) is not None:
             return done
