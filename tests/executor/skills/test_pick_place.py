@@ -249,6 +249,19 @@ def test_a_glide_over_a_release_keeps_a_flat_nut_in_the_fingers() -> None:
     assert all(check_goals(episode, loop.model, loop.data))
 
 
+def test_a_bowl_held_by_its_rim_glides_without_turning() -> None:
+    """stacking_nesting seed 3: the bowl, held by its rim 5 cm off its centre, pried the
+    fingers open as the glide over the plate turned the hand 90 degrees, and fell. An object
+    hanging that wide now glides with the hand's heading kept."""
+    episode = incident_episode("stacking_nesting", 3)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the bowl, place it on the plate
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert loop.held is None
+
+
 def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     """variant_chocolate_box seed 8: the way down into the storage box planned for the
     hand's heading passed the rim 1 mm off; the swaying arm hit it and stopped 6 cm short
