@@ -262,6 +262,19 @@ def test_a_bowl_held_by_its_rim_glides_without_turning() -> None:
     assert loop.held is None
 
 
+def test_a_nut_beside_a_bin_wall_is_picked_across_two_flats() -> None:
+    """contextual_spare_part seed 4: the nut's centre lay 6 cm out from the parts bin's wall;
+    each of the four headings 90 degrees apart put the hand on the bin, and the pick closed on
+    air. Of the six headings across a flat pair, one is clear."""
+    episode = incident_episode("contextual_spare_part", 4)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:3]):  # fly, descend, pick the nut
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert loop.held == "green_nut"
+
+
 def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     """variant_chocolate_box seed 8: the way down into the storage box planned for the
     hand's heading passed the rim 1 mm off; the swaying arm hit it and stopped 6 cm short
