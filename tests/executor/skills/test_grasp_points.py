@@ -55,6 +55,25 @@ def test_small_objects_allow_four_headings() -> None:
     assert len(cand.rotations) == 4
 
 
+@pytest.mark.parametrize("yaw_deg", [0.0, 19.5, -70.0])
+def test_a_nut_is_held_across_two_flats(yaw_deg: float) -> None:
+    """Closing on two corners, the pads push the nut round (contextual_spare_part seed 4's
+    nut, against a bin's wall, was reachable only on a flat pair's heading)."""
+    from vlm_bench.sim.objects.industrial import NUT_FLAT_DEG
+
+    kind = object_kind("nut")
+    yaw = math.radians(yaw_deg)
+    (cand,) = grasp_points(kind, np.zeros(3), yaw, *_box(kind.size))
+    assert len(cand.rotations) == 6
+    normals = {round((NUT_FLAT_DEG + 60.0 * k + yaw_deg) % 360.0, 6) for k in range(6)}
+    for axis in _closing_axes(cand.rotations):
+        deg = round(math.degrees(math.atan2(axis[1], axis[0])) % 360.0, 6)
+        assert (
+            min(abs(deg - n) for n in normals) < 1e-6
+            or min(abs(abs(deg - n) - 360.0) for n in normals) < 1e-6
+        )
+
+
 def test_mug_is_held_by_the_rim_away_from_its_handle() -> None:
     kind = object_kind("mug")  # 0.11 x 0.08: the handle fills the last 3 cm of +x
     cands = grasp_points(kind, np.array([1.0, 2.0, 0.75]), 0.0, *_box(kind.size))

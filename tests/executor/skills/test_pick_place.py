@@ -236,6 +236,45 @@ def test_a_flight_no_turn_clears_climbs_over_a_basket() -> None:
     assert result.exec_success, result.failure_reason
 
 
+def test_a_glide_over_a_release_keeps_a_flat_nut_in_the_fingers() -> None:
+    """variant_green_nut seed 1: the nut, 1.6 cm tall, is gripped by its top few mm (the
+    pads must stay above the table); the glide over the basket, turning the hand 70 degrees
+    at 0.15 m/s, slid it 1.7 cm along the pads and out. The glide now goes at 0.1 m/s."""
+    episode = incident_episode("variant_green_nut", 1)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan):  # fly, descend, pick, fly, place in the basket
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert all(check_goals(episode, loop.model, loop.data))
+
+
+def test_a_bowl_held_by_its_rim_glides_without_turning() -> None:
+    """stacking_nesting seed 3: the bowl, held by its rim 5 cm off its centre, pried the
+    fingers open as the glide over the plate turned the hand 90 degrees, and fell. An object
+    hanging that wide now glides with the hand's heading kept."""
+    episode = incident_episode("stacking_nesting", 3)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the bowl, place it on the plate
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert loop.held is None
+
+
+def test_a_nut_beside_a_bin_wall_is_picked_across_two_flats() -> None:
+    """contextual_spare_part seed 4: the nut's centre lay 6 cm out from the parts bin's wall;
+    each of the four headings 90 degrees apart put the hand on the bin, and the pick closed on
+    air. Of the six headings across a flat pair, one is clear."""
+    episode = incident_episode("contextual_spare_part", 4)
+    loop = SimLoop(build_scene(episode))
+    run = _Run(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:3]):  # fly, descend, pick the nut
+        outcome = run.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert loop.held == "green_nut"
+
+
 def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     """variant_chocolate_box seed 8: the way down into the storage box planned for the
     hand's heading passed the rim 1 mm off; the swaying arm hit it and stopped 6 cm short

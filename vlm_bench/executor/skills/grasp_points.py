@@ -2,11 +2,11 @@
 
 The Panda hand opens 8 cm, so its fingers must close across an object's narrow side: a banana
 or a chocolate box across its width, a box or a can across its 6 cm side, a 7 cm bolt across
-its shaft (end to end it slips out). A bowl, 16 cm across, and a mug, whose 7.2 cm cup leaves
-the open fingers 4 mm each side, are held by the rim, one finger inside and one outside the
-wall, closing radially; a mug's rim away from its handle (+x). A teddy bear is held by its head,
-across the ears; a cleanser bottle by its cap. The hand's x axis is its heading; the fingers
-close along its y axis.
+its shaft (end to end it slips out), a hex nut across two flats. A bowl, 16 cm across, and a
+mug, whose 7.2 cm cup leaves the open fingers 4 mm each side, are held by the rim, one finger
+inside and one outside the wall, closing radially; a mug's rim away from its handle (+x). A
+teddy bear is held by its head, across the ears; a cleanser bottle by its cap. The hand's x axis
+is its heading; the fingers close along its y axis.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vlm_bench.executor.motion.ik import top_down_rotation
+from vlm_bench.sim.objects.industrial import NUT_FLAT_DEG
 from vlm_bench.types.base import FloatArray
 from vlm_bench.types.world import ObjectKind
 
@@ -101,6 +102,11 @@ def grasp_points(
             GraspPoint(cap, _headings(yaw + math.pi / 2, 2)),
             GraspPoint(cap, _headings(yaw, 2)),
         ]
+    if kind.name == "nut":
+        # Across two flats (any of three pairs, either way round): closing on two corners,
+        # the pads push the nut round, and the six headings leave more ways past a wall.
+        flats = yaw + math.radians(NUT_FLAT_DEG) - math.pi / 2  # the hand's y on a flat normal
+        return [GraspPoint(centre, _headings(flats, 6))]
     if max(sx, sy) <= MAX_ACROSS and min(sx, sy) >= SQUARE * max(sx, sy):
         return [GraspPoint(centre, _headings(yaw, 4))]
     # Close across the narrower side: the hand's x axis along the longer one.

@@ -12,7 +12,7 @@ from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.ik import top_down_rotation
 from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
-from vlm_bench.executor.skills.carry_raise import CARRY_SPEED, raise_to_carry
+from vlm_bench.executor.skills.carry_raise import raise_to_carry
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.release_points import (
     can_drop_into,
@@ -36,6 +36,10 @@ SET_DOWN = 0.04  # m the hand lowers a tall object at most, from its release, to
 SET_DOWN_STEP = 0.005  # m the hand lowers it per 0.1 s until it touches
 CENTRE_TOL = 0.001  # m: a tall object's middle is brought this close over its resting place...
 CENTRE_TRIES = 3  # ...in at most this many sideways moves of the hand, before it is set down
+GLIDE_SPEED = 0.1  # m/s: mean speed of the glide over a release; it turns the hand as it goes,
+# and an object gripped by its top few mm (a flat nut) creeps along the pads at 0.15 m/s
+WIDE_HANG = 0.04  # m: an object whose centre of mass hangs this far off the TCP glides over
+# its release keeping the hand's heading where it can (turning, it pries the fingers open)
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of one
 # finger's touch (an object set down on its destination can be pushed up between the pads)
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
@@ -202,9 +206,10 @@ class Placer:
         top-down postures tilts the hand midway and swings an object hanging from the fingers
         out of them."""
         hand, loop = self.hand, self.loop
-        seconds = max(2.0, float(np.linalg.norm(drop.above - hand.tcp()[0])) / CARRY_SPEED)
+        seconds = max(2.0, float(np.linalg.norm(drop.above - hand.tcp()[0])) / GLIDE_SPEED)
         now = arm_qpos(loop.model, loop.data)
-        if (done := self._glide(drop, sol, sol.shift, seconds)) is not None:
+        level = self._hangs_wide(drop.held)
+        if (done := self._glide(drop, sol, sol.shift, seconds, level)) is not None:
             return done
         # The plan's heading failed: a plan for the hand's heading now.
         keep = hand.planner.plan(
@@ -232,12 +237,20 @@ class Placer:
             return way.q_start, way.q_end, way.rotation, sol.shift.plus(travel)
         return sol.q_start, sol.q_end, sol.rotation, sol.shift
 
-    def _glide(self, drop: _Drop, plan: Reach, shift: BaseMove, seconds: float) -> Descent | None:
-        """Glide the hand to above the release towards ``plan``'s start; the descent from
-        where it ends (another branch, maybe: planned again there), else ``None``."""
-        if not self.hand.lines.glide(
-            drop.above, plan.rotation, seconds, GRIPPER_CLOSED, plan.q_start
-        ):
+    def _hangs_wide(self, held: str) -> bool:
+        """Whether ``held``'s centre of mass lies more than :data:`WIDE_HANG` off the TCP
+        horizontally (a bowl by its rim): turning the hand, it pries the fingers open."""
+        off = np.array(self.loop.data.body(held).xipos) - self.hand.tcp()[0]
+        return float(np.linalg.norm(off[:2])) > WIDE_HANG
+
+    def _glide(
+        self, drop: _Drop, plan: Reach, shift: BaseMove, seconds: float, level: bool = False
+    ) -> Descent | None:
+        """Glide the hand to above the release towards ``plan``'s start (``level``: keeping
+        the hand's heading, for an object hanging wide); the descent from where it ends
+        (another branch, maybe: planned again there), else ``None``."""
+        rotation = top_down_rotation(drop.heading) if level else plan.rotation
+        if not self.hand.lines.glide(drop.above, rotation, seconds, GRIPPER_CLOSED, plan.q_start):
             return None
         way = self._descent(drop, BaseMove.still()) or plan
         return way.q_start, way.q_end, way.rotation, shift

@@ -21,6 +21,7 @@ from vlm_bench.types.episode import EpisodeObject
 from vlm_bench.types.world import ObjectKind
 
 GLASS: RGBA = (0.04, 0.06, 0.12, 1.0)
+NUT_FLAT_DEG = 45.0  # deg: a nut's first flat's outward normal in its frame (then every 60)
 _X_AXIS = axis_angle((0.0, 1.0, 0.0), 90.0)  # turns a cylinder's axis (z) onto +x
 
 
@@ -88,7 +89,7 @@ def build_nut(
     apothem = corner_r * math.cos(math.radians(30.0))
     t = apothem - hole_r
     for i in range(6):
-        az = 45.0 + 60.0 * i  # outward normal of each flat (corners at 15° + 60° k)
+        az = NUT_FLAT_DEG + 60.0 * i  # outward normal of each flat (corners at 15° + 60° k)
         r = apothem - t / 2
         pos = (r * math.cos(math.radians(az)), r * math.sin(math.radians(az)), h / 2)
         kit.hide(kit.box(f"side{i}", (t / 2, corner_r / 2, h / 2), pos, look, yaw(az)))
