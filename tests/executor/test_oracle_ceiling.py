@@ -16,7 +16,6 @@ from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
     ("contextual_spare_part", 4): "step 2: grasp of green_nut failed",
-    ("irregular_on_plate", 5): "goal not met: on(banana, white_plate)",
     ("stacking_nesting", 3): "step 2: blue_bowl slipped from the gripper",
     ("store_and_close", 9): "goal not met: inside(rubiks_cube, top_drawer)",
     ("variant_green_nut", 1): "step 4: green_nut slipped from the gripper",
