@@ -15,8 +15,6 @@ from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("hybrid_interaction_stove", 8): "step 2: stove_knob is out of reach",
-    ("irregular_on_plate", 5): "goal not met: on(banana, white_plate)",
     ("store_and_close", 9): "goal not met: inside(rubiks_cube, top_drawer)",
 }
 

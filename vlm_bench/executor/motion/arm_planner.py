@@ -35,6 +35,7 @@ MAX_ASSIST = 0.35  # m, horizontal: a skill adjusts the UAV, it does not fly to 
 SWING_BIN = 0.5  # rad: plans whose widest joint swing differs by less are equally good
 HELD_SWING = 2.0  # rad: a wider joint swing with an object in the hand counts as a contact:
 # the swing's acceleration can pull the object out of the fingers
+SWEEP_STEP = 0.05  # m of the UAV's flight between the collision checks of a held arm's sweep
 TURN_STEP = 0.1  # rad of the UAV's heading between the collision checks of its turn
 WORK_RADII = (0.36, 0.46, 0.56)
 """Horizontal distances (m) from the arm base where top-down reaches keep far from the joint
@@ -249,14 +250,36 @@ class ArmPlanner:
         at ``q`` and ``carried`` in the hand, at the move's higher end, where
         :func:`~vlm_bench.executor.motion.uav_moves.shift_base` makes it, every
         :data:`TURN_STEP` rad: an arm reaching out sweeps a wide circle as the UAV turns."""
+        hits = self._sweep_hits(move, q, ignore, carried)
         if not move.yaw:
-            return 0
+            return hits
         at = np.zeros(3) if move.turns_first else np.asarray(move.xyz)
         n = math.ceil(abs(float(move.yaw)) / TURN_STEP)
-        return sum(
+        return hits + sum(
             len(
                 self.core.collisions(
                     q, CollisionQuery.of(ignore, None, BaseMove(at, move.yaw * k / n), carried)
+                )
+            )
+            for k in range(1, n + 1)
+        )
+
+    def _sweep_hits(
+        self, move: BaseMove, q: FloatArray, ignore: set[int], carried: Carried | None
+    ) -> int:
+        """Contacts outside ``ignore`` while the UAV flies ``move``'s horizontal part with an
+        object in the hand and the arm held at ``q``, every :data:`SWEEP_STEP` m: an arm
+        holding an object low drags what it passes along (the empty arm is stowed first)."""
+        xyz = np.asarray(move.xyz)
+        length = float(np.linalg.norm(xyz[:2]))
+        if carried is None or length < 1e-6:
+            return 0
+        yaw = move.yaw if move.turns_first else 0.0
+        n = math.ceil(length / SWEEP_STEP)
+        return sum(
+            len(
+                self.core.collisions(
+                    q, CollisionQuery.of(ignore, None, BaseMove(xyz * k / n, yaw), carried)
                 )
             )
             for k in range(1, n + 1)

@@ -19,7 +19,6 @@ import math
 import numpy as np
 
 from vlm_bench.executor.motion.arm_core import IK_OK
-from vlm_bench.executor.motion.arm_planner import BASE_ASSIST
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
@@ -34,6 +33,7 @@ from vlm_bench.sim.constants import (
     part_handle_site,
     part_joint,
 )
+from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.base import FloatArray
 from vlm_bench.types.episode import Episode, PartRef
 from vlm_bench.types.execution import FailureCode, SkillFailure
@@ -277,26 +277,29 @@ class Knobs(_PartSkills):
         self, part: PartRef, grip: FloatArray
     ) -> tuple[FloatArray, float, BaseMove] | None:
         """Pre-grasp posture, start heading and UAV move from which the hand reaches the grip
-        at the start and at the end of the turn, touching nothing but the knob."""
+        at the start and at the end of the turn, touching nothing but the knob, also on the
+        joint-space way from the stowed arm to the pre-grasp posture. The UAV moves are the
+        reach planner's assists: a knob the stand-off leaves close under the arm base is
+        reached after a small horizontal move away from it, as a grasp is."""
         hand, data = self.hand, self.loop.data
         ignore = hand.body_geoms(part.id)
         turn = math.radians(TURN_DEG)
         best: tuple[float, tuple[FloatArray, float, BaseMove]] | None = None
-        for shift in BASE_ASSIST:
+        now = arm_qpos(self.loop.model, data)
+        for shift in hand.planner.assists(grip):
+            query = CollisionQuery.of(ignore, GRIPPER_OPEN, shift)
             for k in range(8):
                 heading = -math.pi + k * math.pi / 4
                 rot0, rot1 = top_down_rotation(heading), top_down_rotation(heading + turn)
                 q0, res0 = hand.core.solve_any(grip, rot0, np.asarray(TOP_DOWN_SEED), shift)
-                if res0 > IK_OK or hand.core.collisions(
-                    q0, CollisionQuery.of(ignore, GRIPPER_OPEN, shift)
-                ):
+                if res0 > IK_OK or hand.core.collisions(q0, query):
                     continue
                 q1, res1 = hand.core.ik.solve(data, grip, rot1, q0, base=shift)
                 if res1 > IK_OK or abs(float(q1[6] - q0[6])) < 0.8 * turn:
                     continue
                 above = grip + np.array([0.0, 0.0, PRE_HANDLE])
                 q_pre, res = hand.core.ik.solve(data, above, rot0, q0, base=shift)
-                if res > IK_OK:
+                if res > IK_OK or hand.core.path_hits(now, q_pre, query, limit=0):
                     continue
                 margin = hand.core.ik.limit_margin(q1)
                 if best is None or margin > best[0]:
