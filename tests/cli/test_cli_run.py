@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -51,7 +52,9 @@ def test_oracle_run_scores_100_everywhere(cli: Cli, tmp_path: Path) -> None:
     assert len(records) == 16 and all(
         r.parse is not None and r.parse.tier == "valid" for r in records
     )
-    assert "BM" in printed and "Overall" in printed and "summary.md" in printed
+    assert "Overall" in printed and "summary.md" in printed
+    # Not a terminal: the table is as wide as it needs (suite names in full), rows unwrapped.
+    assert re.search(r"oracle\s+explicit\s+Base Manipulation", printed), printed
     assert (out / "summary.md").read_text().count("| oracle |") == 3
 
 

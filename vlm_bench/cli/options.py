@@ -9,6 +9,9 @@ from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
+PIPE_WIDTH = 200
+"""Columns of tables printed to a pipe or file (no terminal width to respect): nothing is cut."""
+
 MAX_SEED = 2**32 - 1
 """Largest episode seed (seeds are stored as integers every reader handles)."""
 

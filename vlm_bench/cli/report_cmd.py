@@ -14,11 +14,12 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
+from vlm_bench.cli.options import PIPE_WIDTH
+
 if TYPE_CHECKING:
     from vlm_bench.report.make import Report
 
 console = Console()
-PIPE_WIDTH = 200
 """Width of the tables when stdout is no terminal (a pipe or file), as with ``--out``."""
 
 

@@ -13,6 +13,7 @@ from rich.console import Console
 
 from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
 from vlm_bench.cli.options import (
+    PIPE_WIDTH,
     finite,
     parse_seed,
     parse_seeds,
@@ -119,7 +120,9 @@ def _print_summary(result: RunResult) -> None:
     from vlm_bench.report import summary_rich
     from vlm_bench.types.execution import FailureCode
 
-    console.print(summary_rich(result.summary, title=result.run_id, width=console.width))
+    # Piped: no terminal width to respect, so the table is not wrapped or cut.
+    shown = console if console.is_terminal else Console(width=PIPE_WIDTH, color_system=None)
+    shown.print(summary_rich(result.summary, title=result.run_id, width=shown.width))
     stats = result.stats
     line = f"{result.run_dir}: summary.md, summary.csv, records.jsonl ({stats.total} episodes"
     if stats.skipped:
