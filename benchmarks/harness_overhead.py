@@ -31,8 +31,8 @@ from vlm_bench.types.run import RunConfig
 
 STAGES = {
     "episode build": ("generate.py", "make_episode"),
-    "render (scene + views)": ("snapshots.py", "render_episode"),
-    "PNG encoding": ("snapshots.py", "to_png"),
+    "render (scene + views)": ("snapshot_render.py", "render_episode"),
+    "PNG encoding": ("png.py", "to_png"),
     "prompt": ("builder.py", "build_prompt"),
     "parse": ("parser.py", "parse_plan"),
     "score": ("metrics.py", "score_plan"),

@@ -8,6 +8,10 @@ what is wrong and, where there is a closed set, the valid options. The CLI print
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import TYPE_CHECKING, NamedTuple
+
+if TYPE_CHECKING:
+    from pydantic import ValidationError
 
 
 class VlmBenchError(Exception):
@@ -60,3 +64,32 @@ class MissingExtraError(VlmBenchError):
 
 class EpisodeGenerationError(VlmBenchError):
     """No valid layout could be sampled for a task and seed."""
+
+
+class Problem(NamedTuple):
+    """The first problem of a pydantic ``ValidationError``, for a one-line message."""
+
+    where: str
+    """Field path (``views[1]``, ``generation.temperature``); empty for the whole object."""
+    why: str
+    """Pydantic's message, without the ``Value error, `` prefix of a validator's ValueError."""
+    more: int
+    """How many further problems the error holds."""
+
+
+def first_problem(exc: ValidationError) -> Problem:
+    """Where and why validation failed first: the one way every module words a
+    ``ValidationError`` (options and data files alike)."""
+    err = exc.errors()[0]
+    where = ""
+    for part in err["loc"]:
+        where += f"[{part}]" if isinstance(part, int) else (f".{part}" if where else str(part))
+    why = str(err["msg"]).removeprefix("Value error, ")
+    return Problem(where, why, exc.error_count() - 1)
+
+
+def option_error(exc: ValidationError, what: str) -> ConfigError:
+    """A one-line :class:`ConfigError` for invalid options: ``invalid <what> <field>: <why>``
+    (just the reason when the options as a whole are wrong)."""
+    where, why, _ = first_problem(exc)
+    return ConfigError(f"invalid {what} {where}: {why}" if where else why)

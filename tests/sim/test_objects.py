@@ -302,3 +302,20 @@ def test_cube_stays_in_an_open_drawer() -> None:
         data.body("small_cube").xpos - data.body("middle_drawer").xpos
     )
     assert abs(local[0]) < 0.2 and abs(local[1]) < 0.25 and -0.002 < local[2] < 0.05
+
+
+def test_subtree_geoms_by_name_or_id_are_the_body_and_its_descendants() -> None:
+    model, _ = scene(place("stove"), floor=False)  # a body with a part and visual-only geoms
+    body = model.body("stove").id
+
+    def below(b: int) -> bool:
+        while b not in (body, 0):
+            b = int(model.body_parentid[b])
+        return b == body
+
+    expected = [g for g in range(model.ngeom) if below(int(model.geom_bodyid[g]))]
+    assert len({int(model.geom_bodyid[g]) for g in expected}) > 1  # the parts count too
+    assert subtree_geoms(model, "stove") == subtree_geoms(model, body) == expected
+    solid = subtree_geoms(model, body, solid_only=True)
+    assert solid == [g for g in expected if model.geom_contype[g] or model.geom_conaffinity[g]]
+    assert len(solid) < len(expected)  # visual-only geoms are left out

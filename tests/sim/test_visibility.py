@@ -12,8 +12,9 @@ import pytest
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.episodes import make_episode
 from vlm_bench.sim.constants import CAM_UAV, part_handle_site
-from vlm_bench.sim.footprint import pixel_mask, subtree_geoms
+from vlm_bench.sim.footprint import pixel_mask
 from vlm_bench.sim.labels import project_points
+from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.sim.scene import Scene, build_scene
 from vlm_bench.sim.visibility import (

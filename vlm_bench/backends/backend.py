@@ -9,7 +9,7 @@ from typing import ClassVar, Self, TypeVar
 from pydantic import BaseModel, ConfigDict, JsonValue, ValidationError
 
 from vlm_bench.closing import ClosesOnExit
-from vlm_bench.errors import ConfigError
+from vlm_bench.errors import ConfigError, first_problem
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 
 OPERATIONAL: dict[str, JsonValue] = {"operational": True}
@@ -56,13 +56,12 @@ def parse_args(backend: str, model: type[A], raw: Mapping[str, str]) -> A:
     try:
         return model.model_validate(dict(raw))
     except ValidationError as exc:
-        err = exc.errors()[0]
-        key = ".".join(str(p) for p in err["loc"]) or "(args)"
+        where, why, _ = first_problem(exc)
+        key = where or "(args)"
         got = raw.get(key)
         value = f"={got!r}" if got is not None else ""
         raise ConfigError(
-            f"invalid -M argument {key}{value} for backend {backend!r}: {err['msg']}; "
-            f"valid keys: {valid}"
+            f"invalid -M argument {key}{value} for backend {backend!r}: {why}; valid keys: {valid}"
         ) from None
 
 

@@ -9,16 +9,9 @@ from typing import TypeVar
 
 from pydantic import BaseModel, ValidationError
 
-from vlm_bench.errors import DataFileError
+from vlm_bench.errors import DataFileError, first_problem
 
 M = TypeVar("M", bound=BaseModel)
-
-
-def _location(loc: tuple[int | str, ...]) -> str:
-    out = ""
-    for part in loc:
-        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
-    return out or "(root)"
 
 
 def not_utf8(exc: UnicodeDecodeError) -> str:
@@ -44,9 +37,9 @@ def load_model(path: Path, model: type[M]) -> M:
     try:
         return model.model_validate(data)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-        raise DataFileError(str(path), f"{_location(err['loc'])}: {err['msg']}{more}") from None
+        where, why, more = first_problem(exc)
+        extra = f" (+{more} more)" if more else ""
+        raise DataFileError(str(path), f"{where or '(root)'}: {why}{extra}") from None
 
 
 def load_by_name(folder: Path, model: type[M], name: Callable[[M], str]) -> dict[str, M]:

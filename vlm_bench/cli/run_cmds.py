@@ -21,7 +21,7 @@ from vlm_bench.cli.options import (
     parse_variant,
     perturb_options,
 )
-from vlm_bench.errors import ConfigError, UnknownNameError
+from vlm_bench.errors import ConfigError, UnknownNameError, option_error
 
 if TYPE_CHECKING:
     from vlm_bench.api import RunResult
@@ -265,8 +265,7 @@ def run(
             **decoding,
         )
     except ValidationError as exc:
-        err = exc.errors()[0]
-        raise ConfigError(f"invalid option {err['loc'][0]}: {err['msg']}") from None
+        raise option_error(exc, "option") from None
     config = run_config(
         model=model,
         backend_args=parse_model_args(model_arg or []),

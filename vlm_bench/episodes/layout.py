@@ -9,6 +9,7 @@ import numpy as np
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes.plane_geometry import rect_corners, rects_overlap
 from vlm_bench.rules import rotate_xy
+from vlm_bench.rules.work import rest_height
 from vlm_bench.types.base import Vec3
 from vlm_bench.types.episode import EpisodeObject, PartRef
 from vlm_bench.types.task import PlacedObject, TaskSpec
@@ -21,14 +22,11 @@ GRIPPER_SPAN = 0.075  # m: widest an object may be for the open gripper to close
 HAND_CLEARANCE = 0.08  # m: from a long object to a taller neighbour, for the closing hand
 PALM_CLEARANCE = 0.03  # m: from an object the open hand fits around to a taller neighbour
 RIM_GRASPED = frozenset({"bowl", "mug"})  # held by the rim, from whichever side is free
-CONTAINER_FLOOR = 0.012  # m, height of a container's inner floor above its base
 
 
 def _support_top(support: EpisodeObject) -> float:
     kind = object_kind(support.kind)
-    if kind.container and not kind.support:
-        return support.pos[2] + CONTAINER_FLOOR
-    return support.pos[2] + kind.size[2]
+    return rest_height(support.pos[2], kind.size[2], container=kind.container, support=kind.support)
 
 
 def _ordered(objects: tuple[PlacedObject, ...]) -> list[PlacedObject]:

@@ -17,7 +17,8 @@ from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.sim.constants import part_handle_site, part_joint
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene
-from vlm_bench.sim.snapshot_render import render_scene, to_png
+from vlm_bench.sim.snapshot_render import render_scene
+from vlm_bench.storage.png import to_png
 from vlm_bench.types.episode import Episode, EpisodeObject, PartRef, UavPose
 
 

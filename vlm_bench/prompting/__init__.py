@@ -2,11 +2,10 @@
 
 from vlm_bench.prompting.builder import (
     build_prompt,
-    episode_key,
     prompt_config_hash,
     render_system,
     render_text,
-    to_png,
+    shuffle_key,
 )
 from vlm_bench.prompting.examples import (
     LeakageFinding,
@@ -23,15 +22,14 @@ __all__ = [
     "build_prompt",
     "build_replan_prompt",
     "check_no_leakage",
-    "episode_key",
     "few_shot_examples",
     "find_leakage",
     "prompt_config_hash",
     "render_system",
     "render_text",
     "select_examples",
+    "shuffle_key",
     "skill_rows",
     "skills_digest",
     "step_shape",
-    "to_png",
 ]

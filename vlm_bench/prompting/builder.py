@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import hashlib
-import io
 import json
 import re
 from collections.abc import Mapping, Sequence
@@ -13,6 +12,7 @@ from vlm_bench.prompting.examples import example_plan, example_scene_text, selec
 from vlm_bench.prompting.skills_section import skill_rows, skills_digest
 from vlm_bench.prompting.templates import render, templates_digest
 from vlm_bench.rules import format_scene, rule_numbers, scene_entries
+from vlm_bench.storage.png import to_png
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import TextPart
 from vlm_bench.types.plan import Direction, plan_to_json
@@ -24,39 +24,16 @@ from vlm_bench.types.prompt import (
     PromptPart,
 )
 
-_PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 # NUL cannot occur in instructions or ids, so these markers cannot be forged by data.
 _SLOT = "\x00image:{}\x00"
 _SLOT_RE = re.compile("\x00image:([a-z]+)\x00")
 
 
-def episode_key(episode: Episode) -> str:
-    """Key that seeds per-episode few-shot selection (same for both instruction variants)."""
+def shuffle_key(episode: Episode) -> str:
+    """``task_id:seed``: seeds an episode's few-shot selection and object order, the same for
+    both instruction variants (a run's record key is
+    :func:`~vlm_bench.types.records.episode_key`, one per variant)."""
     return f"{episode.task_id}:{episode.seed}"
-
-
-def to_png(image: object) -> bytes:
-    """PNG bytes from PNG bytes, a PIL image or an ``HxWx3`` uint8 array.
-
-    Raises:
-        ConfigError: Bytes that are not PNG, or an unsupported image type.
-    """
-    if isinstance(image, bytes | bytearray):
-        if not bytes(image).startswith(_PNG_MAGIC):
-            raise ConfigError("image bytes are not PNG-encoded")
-        return bytes(image)
-    from PIL import Image
-
-    if not isinstance(image, Image.Image):
-        if not hasattr(image, "__array_interface__"):
-            raise ConfigError(
-                f"unsupported image type {type(image).__name__}; "
-                "give PNG bytes, a PIL image or a uint8 array"
-            )
-        image = Image.fromarray(image)
-    buf = io.BytesIO()
-    image.save(buf, format="PNG")
-    return buf.getvalue()
 
 
 def render_system(config: PromptConfig, examples: Sequence[FewShotExample] = ()) -> str:
@@ -97,7 +74,7 @@ def _rank(key: str, item: str) -> bytes:
 def object_order(episode: Episode) -> list[str]:
     """The episode's object and part ids in a seeded shuffled order (the same for both
     instruction variants): the target comes first only as often as chance gives."""
-    key = episode_key(episode)
+    key = shuffle_key(episode)
     return sorted(episode.object_ids(), key=lambda item: _rank(key, item))
 
 
@@ -158,7 +135,7 @@ def build_prompt(
         raise ConfigError(
             f"no image for view(s) {', '.join(missing)}; given: {', '.join(images) or 'none'}"
         )
-    key = episode_key(episode) if config.few_shot_selection == "per_episode" else ""
+    key = shuffle_key(episode) if config.few_shot_selection == "per_episode" else ""
     examples = select_examples(config.k_shot, config.few_shot_seed, key)
     system = render_system(config, examples)
     order = object_order(episode)

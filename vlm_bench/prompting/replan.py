@@ -18,15 +18,15 @@ from vlm_bench.prompting.builder import (
     _SLOT,
     _hash,
     _user_parts,
-    episode_key,
     object_order,
     render_system,
     scene_text,
-    to_png,
+    shuffle_key,
 )
 from vlm_bench.prompting.examples import select_examples
 from vlm_bench.prompting.templates import render
 from vlm_bench.resources import prompts_dir
+from vlm_bench.storage.png import to_png
 from vlm_bench.types.closed_loop import Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import plan_to_json
@@ -63,7 +63,7 @@ def build_replan_prompt(
         config: The run's prompt options.
         feedback: The steps executed so far, what is held, whether only goals are unmet.
     """
-    key = episode_key(episode) if config.few_shot_selection == "per_episode" else ""
+    key = shuffle_key(episode) if config.few_shot_selection == "per_episode" else ""
     examples = select_examples(config.k_shot, config.few_shot_seed, key)
     system = render_system(config, examples)
     order = object_order(episode)

@@ -7,7 +7,7 @@ from typing import Any, Literal
 
 from pydantic import Field, ValidationError, model_validator
 
-from vlm_bench.errors import ConfigError
+from vlm_bench.errors import option_error
 from vlm_bench.types.base import Frozen
 
 ReportFormat = Literal["terminal", "markdown", "csv", "parquet", "latex"]
@@ -88,7 +88,4 @@ def report_options(**fields: Any) -> ReportOptions:
     try:
         return ReportOptions(**fields)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"])
-        msg = str(err["msg"]).removeprefix("Value error, ")
-        raise ConfigError(f"invalid report option {where}: {msg}" if where else msg) from None
+        raise option_error(exc, "report option") from None

@@ -106,7 +106,8 @@ class SnapshotSource:
 
     def _render(self, episode: Episode, views: list[str]) -> dict[str, bytes]:
         from vlm_bench.sim.render import SnapshotRenderer
-        from vlm_bench.sim.snapshot_render import render_episode, to_png
+        from vlm_bench.sim.snapshot_render import render_episode
+        from vlm_bench.storage.png import to_png
 
         if self._renderer is None:
             self._renderer = SnapshotRenderer()

@@ -27,6 +27,7 @@ from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.cameras import task_objects
 from vlm_bench.sim.labels import project_points
+from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import GeomIdImage, SnapshotRenderer
 from vlm_bench.sim.scene import Scene
 from vlm_bench.sim.view_sizes import min_pixels
@@ -35,22 +36,12 @@ Mask = NDArray[np.bool_]
 IntArray = NDArray[np.int64]
 
 
-def subtree_geoms(model: mujoco.MjModel, body: str) -> IntArray:
-    """Ids of the geoms of ``body`` and of every body below it (an object with its parts)."""
-    root = model.body(body).id
-    inside = np.zeros(model.nbody, dtype=bool)
-    for b in range(model.nbody):  # parents come before children in a compiled model
-        inside[b] = b == root or (b > 0 and inside[model.body_parentid[b]])
-    ids: IntArray = np.flatnonzero(inside[model.geom_bodyid])
-    return ids
-
-
 def named_geoms(model: mujoco.MjModel, names: tuple[str, ...]) -> IntArray:
     """Ids of the named geoms."""
     return np.array([model.geom(name).id for name in names], dtype=np.int64)
 
 
-def pixel_mask(seg: GeomIdImage, geoms: IntArray) -> Mask:
+def pixel_mask(seg: GeomIdImage, geoms: Sequence[int] | IntArray) -> Mask:
     """Pixels that show one of ``geoms``."""
     mask: Mask = np.isin(seg, geoms)
     return mask

@@ -79,15 +79,6 @@ def render_episode(
     return render_scene(build_scene(episode), views, size, labels, renderer)
 
 
-def to_png(image: NDArray[np.uint8]) -> bytes:
-    """PNG bytes of an image (for prompts and caches)."""
-    import io
-
-    buf = io.BytesIO()
-    Image.fromarray(image).save(buf, format="PNG", compress_level=1)
-    return buf.getvalue()
-
-
 def save_views(views: Views, out: Path, title: str | None = None) -> list[Path]:
     """Write ``<view>.png`` per view and a labelled 2×2 ``sheet.png``; returns the paths."""
     out.mkdir(parents=True, exist_ok=True)

@@ -18,7 +18,7 @@ from pathlib import Path
 from filelock import FileLock, Timeout
 from pydantic import ValidationError
 
-from vlm_bench.errors import ConfigError, DataFileError, VlmBenchError
+from vlm_bench.errors import ConfigError, DataFileError, VlmBenchError, first_problem
 from vlm_bench.storage.jsonl import write_text_atomic
 from vlm_bench.types.run import RunConfig, RunManifest, config_differences
 
@@ -135,9 +135,8 @@ def read_manifest(paths: RunPaths) -> RunManifest:
     except json.JSONDecodeError as exc:
         raise DataFileError(str(paths.manifest), f"invalid JSON ({exc.msg})") from None
     except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"]) or "(root)"
-        raise DataFileError(str(paths.manifest), f"{where}: {err['msg']}") from None
+        where, why, _ = first_problem(exc)
+        raise DataFileError(str(paths.manifest), f"{where or '(root)'}: {why}") from None
 
 
 def write_manifest(paths: RunPaths, manifest: RunManifest) -> None:

@@ -6,16 +6,15 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from vlm_bench.errors import DataFileError
+from vlm_bench.errors import DataFileError, first_problem
 from vlm_bench.storage.jsonl import iter_jsonl
 from vlm_bench.types.records import CachedResponse, EpisodeRecord, migrate_record
 
 
 def _fail(path: Path, number: int, exc: ValidationError | ValueError) -> DataFileError:
     if isinstance(exc, ValidationError):
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"]) or "(record)"
-        return DataFileError(str(path), f"line {number}: {where}: {err['msg']}")
+        where, why, _ = first_problem(exc)
+        return DataFileError(str(path), f"line {number}: {where or '(record)'}: {why}")
     return DataFileError(str(path), f"line {number}: {exc}")
 
 

@@ -35,7 +35,7 @@ from pydantic import (
     model_validator,
 )
 
-from vlm_bench.errors import ConfigError
+from vlm_bench.errors import option_error
 from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.benchmark_version import BENCHMARK_VERSION, FIRST_VERSION
 from vlm_bench.types.closed_loop import HistoryMode, LoopConfig, LoopMode, PerturbConfig
@@ -284,10 +284,7 @@ def run_config(**fields: Any) -> RunConfig:
     try:
         return RunConfig(**fields)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"])
-        msg = str(err["msg"]).removeprefix("Value error, ")
-        raise ConfigError(f"invalid run option {where}: {msg}" if where else msg) from None
+        raise option_error(exc, "run option") from None
 
 
 class DataHashes(Frozen):

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 from pydantic import Field, ValidationError
 
 from vlm_bench.episodes import get_episode
-from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
+from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError, first_problem
 from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.plan_replay import episode_scene
 from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
@@ -141,12 +141,9 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
         try:
             opts = ResetOptions.model_validate(options or {})
         except ValidationError as err:
-            first = err.errors()[0]
-            where = ".".join(str(part) for part in first["loc"])
+            where, why, _ = first_problem(err)
             valid = ", ".join(ResetOptions.model_fields)
-            raise ConfigError(
-                f"reset option {where!r}: {first['msg']}; valid options: {valid}"
-            ) from err
+            raise ConfigError(f"reset option {where!r}: {why}; valid options: {valid}") from err
         task = opts.task_id or self.episode.task_id
         episode_seed = opts.seed if opts.seed is not None else seed
         # gymnasium passes numpy integers at times; episodes take plain ints

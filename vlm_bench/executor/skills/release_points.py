@@ -8,8 +8,8 @@ import math
 import numpy as np
 
 from vlm_bench.catalog.world_catalog import object_kind
-from vlm_bench.episodes.layout import CONTAINER_FLOOR
 from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.rules.work import CONTAINER_FLOOR
 from vlm_bench.sim.constants import TCP_SITE, part_joint
 from vlm_bench.sim.objects.bounds import geom_bounds, object_bounds
 from vlm_bench.types.base import FloatArray

@@ -48,18 +48,17 @@ def geom_bounds(model: mujoco.MjModel, data: mujoco.MjData, geom: int) -> tuple[
     return centre - half, centre + half
 
 
-def subtree_geoms(model: mujoco.MjModel, body: int, solid_only: bool = False) -> list[int]:
-    """Ids of the geoms on ``body`` and all its descendants (optionally only colliding ones)."""
-    out = []
-    for geom in range(model.ngeom):
-        if solid_only and model.geom_contype[geom] == 0 and model.geom_conaffinity[geom] == 0:
-            continue
-        b = int(model.geom_bodyid[geom])
-        while b != body and b != 0:
-            b = int(model.body_parentid[b])
-        if b == body:
-            out.append(geom)
-    return out
+def subtree_geoms(model: mujoco.MjModel, body: int | str, solid_only: bool = False) -> list[int]:
+    """Ids of the geoms on ``body`` (an id or a name) and on every body below it (an object with
+    its parts), ascending; with ``solid_only``, only the colliding ones."""
+    root = model.body(body).id
+    inside = np.zeros(model.nbody, dtype=bool)
+    for b in range(model.nbody):  # parents come before children in a compiled model
+        inside[b] = b == root or (b > 0 and inside[model.body_parentid[b]])
+    keep = inside[model.geom_bodyid]
+    if solid_only:
+        keep &= (model.geom_contype != 0) | (model.geom_conaffinity != 0)
+    return [int(g) for g in np.flatnonzero(keep)]
 
 
 def object_bounds(
