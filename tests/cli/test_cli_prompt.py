@@ -109,3 +109,29 @@ def test_cli_bad_options_are_one_line(cli: Cli, args: list[str], message: str) -
     assert done.returncode == 2, done.stdout + done.stderr
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], lines
+
+
+def test_run_and_prompt_share_one_option_set_with_the_run_configs_defaults() -> None:
+    import inspect
+
+    from vlm_bench.cli.prompt_cmd import prompt
+    from vlm_bench.cli.run_cmds import run
+    from vlm_bench.types.run import RunConfig
+
+    config = RunConfig(model="oracle")
+    expected = {
+        "views": ",".join(config.views),
+        "resolution": config.resolution,
+        "k_shot": config.k_shot,
+        "no_object_list": not config.object_list,
+        "no_images": not config.images,
+        "scene_as_text": config.scene_as_text,
+        "no_snapshot_cache": False,
+    }
+    run_params = inspect.signature(run).parameters
+    prompt_params = inspect.signature(prompt).parameters
+    for name, default in expected.items():
+        assert run_params[name].default == prompt_params[name].default == default, name
+        assert run_params[name].annotation == prompt_params[name].annotation, name
+    assert run_params["batch_size"].default == config.generation.batch_size
+    assert run_params["max_new_tokens"].default == config.generation.max_new_tokens

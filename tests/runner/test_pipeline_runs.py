@@ -247,3 +247,45 @@ def test_gt_plan_of_records_matches_the_episode(tmp_path: Path) -> None:
     episode = make_episode("tower_stacking", 1)
     assert all(r.gt_plan == plan_to_json(episode.gt_plan) for r in result.records)
     assert all(r.plan == r.gt_plan for r in result.records)
+
+
+class MeteredOracle(CountingOracle):
+    """The oracle, reporting usage: tokens, a finish reason and latencies per answer."""
+
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        return [
+            r.model_copy(
+                update={
+                    "latency_s": 0.25,
+                    "batch_latency_s": 1.5,
+                    "prompt_tokens": 1000 + i,
+                    "completion_tokens": 40 + i,
+                    "finish_reason": "length",
+                }
+            )
+            for i, r in enumerate(super().generate(requests, config))
+        ]
+
+
+def test_a_backends_usage_reaches_responses_and_records_and_survives_rescore(
+    tmp_path: Path,
+) -> None:
+    from vlm_bench.storage import read_responses
+    from vlm_bench.types.records import USAGE_FIELDS, usage_of
+
+    run_dir = tmp_path / "run"
+    api.run(_config(tasks=TASKS[:1], seeds=(0,)), out=run_dir, backend=MeteredOracle())
+    records = latest_records(run_dir / "records.jsonl")
+    responses = read_responses(run_dir / "responses.jsonl")
+    assert {r.prompt_tokens for r in records} == {1000, 1001}
+    for record in records:
+        usage = usage_of(record)
+        assert set(usage) == set(USAGE_FIELDS) and usage["finish_reason"] == "length"
+        assert usage == usage_of(responses[(record.key, record.prompt_hash)])
+    (run_dir / "responses.jsonl").unlink()  # rescore falls back on the records' own copy
+    api.rescore(run_dir)
+    assert [usage_of(r) for r in latest_records(run_dir / "records.jsonl")] == [
+        usage_of(r) for r in records
+    ]

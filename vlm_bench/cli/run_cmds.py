@@ -21,7 +21,22 @@ from vlm_bench.cli.options import (
     parse_variant,
     perturb_options,
 )
-from vlm_bench.errors import ConfigError, UnknownNameError, option_error
+from vlm_bench.cli.prompt_options import (
+    DEFAULT_BATCH_SIZE,
+    DEFAULT_K_SHOT,
+    DEFAULT_MAX_NEW_TOKENS,
+    DEFAULT_RESOLUTION,
+    DEFAULT_VIEWS,
+    KShotOption,
+    NoImagesOption,
+    NoObjectListOption,
+    NoSnapshotCacheOption,
+    ResolutionOption,
+    SceneAsTextOption,
+    ViewsOption,
+    prompt_fields,
+)
+from vlm_bench.errors import ConfigError, option_error
 
 if TYPE_CHECKING:
     from vlm_bench.api import RunResult
@@ -52,7 +67,6 @@ ExecStall = Annotated[
         "a hung worker or a lost node; a resume runs them again.",
     ),
 ]
-_VIEWS = ("uav", "wrist", "overhead", "side")
 
 
 def replay_options(
@@ -79,17 +93,6 @@ def replay_options(
     if stall_s is None:
         return options
     return options.model_copy(update={"stall_s": finite("--exec-stall-s", stall_s)})
-
-
-def parse_views(text: str) -> tuple[str, ...]:
-    """Comma-separated camera views, e.g. ``uav,wrist``."""
-    views = tuple(v.strip().lower() for v in text.split(",") if v.strip())
-    if not views:
-        raise ConfigError("no views given; valid: " + ", ".join(_VIEWS))
-    for view in views:
-        if view not in _VIEWS:
-            raise UnknownNameError("camera view", view, _VIEWS)
-    return views
 
 
 def sampling_settings(model: str, temperature: float) -> dict[str, float | int]:
@@ -168,30 +171,23 @@ def run(
     suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")] = None,
     seeds: Annotated[str, typer.Option(help="Seeds: 0-9 or 0,3,5.")] = "0",
     instruction: Annotated[str, typer.Option(help="explicit, implicit or both.")] = "both",
-    views: Annotated[str, typer.Option(help="Views shown, comma-separated.")] = ",".join(_VIEWS),
-    resolution: Annotated[int, typer.Option(help="Snapshot side in pixels.")] = 448,
-    k_shot: Annotated[int, typer.Option(help="Few-shot examples in the prompt.")] = 2,
-    no_object_list: Annotated[
-        bool, typer.Option("--no-object-list", help="Do not list the scene's object ids.")
-    ] = False,
-    no_images: Annotated[
-        bool,
-        typer.Option("--no-images", help="Text only: no camera views (instruction, objects)."),
-    ] = False,
-    scene_as_text: Annotated[
-        bool,
-        typer.Option(
-            "--scene-as-text",
-            help="Give every object's position in the UAV body frame as text (perfect perception).",
-        ),
-    ] = False,
+    views: ViewsOption = DEFAULT_VIEWS,
+    resolution: ResolutionOption = DEFAULT_RESOLUTION,
+    k_shot: KShotOption = DEFAULT_K_SHOT,
+    no_object_list: NoObjectListOption = False,
+    no_images: NoImagesOption = False,
+    scene_as_text: SceneAsTextOption = False,
     constrained: Annotated[bool, typer.Option(help="JSON-schema constrained decoding.")] = False,
     model_arg: Annotated[
         list[str] | None,
         typer.Option("--model-arg", "-M", help="Backend argument key=value (repeatable)."),
     ] = None,
-    batch_size: Annotated[int, typer.Option(help="Requests per generate call.")] = 8,
-    max_new_tokens: Annotated[int, typer.Option(help="Most tokens generated.")] = 512,
+    batch_size: Annotated[
+        int, typer.Option(help="Requests per generate call.")
+    ] = DEFAULT_BATCH_SIZE,
+    max_new_tokens: Annotated[
+        int, typer.Option(help="Most tokens generated.")
+    ] = DEFAULT_MAX_NEW_TOKENS,
     temperature: Annotated[float, typer.Option(help="0 = greedy.")] = 0.0,
     sampling: Annotated[
         bool,
@@ -201,10 +197,7 @@ def run(
     ] = False,
     run_name: Annotated[str | None, typer.Option(help="Folder name under results/.")] = None,
     out: Annotated[Path | None, typer.Option(help="Run folder (instead of --run-name).")] = None,
-    no_snapshot_cache: Annotated[
-        bool,
-        typer.Option("--no-snapshot-cache", help="Render every episode (no shared PNG cache)."),
-    ] = False,
+    no_snapshot_cache: NoSnapshotCacheOption = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
     execute: Annotated[
         bool,
@@ -273,12 +266,7 @@ def run(
         suite=parse_suite(suite),
         seeds=tuple(parse_seeds(seeds)),
         instructions=parse_instructions(instruction),
-        views=parse_views(views),
-        resolution=resolution,
-        k_shot=k_shot,
-        object_list=not no_object_list,
-        images=not no_images,
-        scene_as_text=scene_as_text,
+        **prompt_fields(views, resolution, k_shot, no_object_list, no_images, scene_as_text),
         generation=generation,
         execute=execute,
         uav_noise=uav_noise,

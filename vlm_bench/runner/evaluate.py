@@ -11,7 +11,7 @@ from vlm_bench.scoring import score_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.parse import AnswerFormat, ParseResult
 from vlm_bench.types.plan import plan_to_json
-from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
 from vlm_bench.types.scores import PlanScores, ScoringConfig
 from vlm_bench.types.task import InstructionVariant
 
@@ -95,11 +95,7 @@ def scored_record(
         plan=ev.plan,
         scores=ev.scores,
         error_tags=ev.error_tags,
-        latency_s=response.latency_s,
-        batch_latency_s=response.batch_latency_s,
-        prompt_tokens=response.prompt_tokens,
-        completion_tokens=response.completion_tokens,
-        finish_reason=response.finish_reason,
+        **usage_of(response),
         cached=cached,
         status="ok",
     )

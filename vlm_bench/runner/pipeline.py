@@ -30,7 +30,7 @@ from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import GenerationRequest, GenerationResult
-from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
 from vlm_bench.types.run import RunConfig
 
 STOP_POLL_S = 0.2
@@ -190,11 +190,7 @@ class EpisodePipeline:
             key=ask.key,
             prompt_hash=ask.prompt_hash,
             text=result.text,
-            latency_s=result.latency_s,
-            batch_latency_s=result.batch_latency_s,
-            prompt_tokens=result.prompt_tokens,
-            completion_tokens=result.completion_tokens,
-            finish_reason=result.finish_reason,
+            **usage_of(result),
         )
         self.store.append_response(response)
         return replays.answer(ask, response, cached=False)
@@ -259,11 +255,7 @@ class EpisodePipeline:
                         key=p.ref.key,
                         prompt_hash=p.info.prompt_hash,
                         text=result.text,
-                        latency_s=result.latency_s,
-                        batch_latency_s=result.batch_latency_s,
-                        prompt_tokens=result.prompt_tokens,
-                        completion_tokens=result.completion_tokens,
-                        finish_reason=result.finish_reason,
+                        **usage_of(result),
                     )
                     store.append_response(response)
                     record = scored_record(p.info, p.episode, response, self.config.scoring)

@@ -17,7 +17,7 @@ from vlm_bench.types.benchmark_version import require_current_version
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.plan import plan_to_json
-from vlm_bench.types.records import CachedResponse, EpisodeRecord, OutputScore
+from vlm_bench.types.records import CachedResponse, EpisodeRecord, OutputScore, usage_of
 from vlm_bench.types.run import RunManifest
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import InstructionVariant
@@ -47,11 +47,7 @@ def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
         key=record.key,
         prompt_hash=record.prompt_hash,
         text=record.raw_output,
-        latency_s=record.latency_s,
-        batch_latency_s=record.batch_latency_s,
-        prompt_tokens=record.prompt_tokens,
-        completion_tokens=record.completion_tokens,
-        finish_reason=record.finish_reason,
+        **usage_of(record),
     )
 
 

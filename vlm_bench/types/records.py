@@ -8,7 +8,7 @@ fields added later have defaults) and :func:`migrate_record` upgrades older layo
 from __future__ import annotations
 
 from datetime import UTC, datetime
-from typing import Any, Literal
+from typing import Any, Literal, Protocol
 
 from pydantic import (
     BaseModel,
@@ -35,6 +35,37 @@ or the infrastructure lost its replay (a dead worker or node); a resume retries 
 
 TIMING_FIELDS = frozenset({"latency_s", "batch_latency_s", "created"})
 """Fields that differ between two otherwise identical runs (and ``execution.wall_time_s``)."""
+
+
+USAGE_FIELDS = (
+    "latency_s",
+    "batch_latency_s",
+    "prompt_tokens",
+    "completion_tokens",
+    "finish_reason",
+)
+"""What a backend reports about one answer; carried from its result to the cached response and
+on to the episode's record."""
+
+
+class Usage(Protocol):
+    """A generation result, cached response or record: anything that carries the usage fields."""
+
+    @property
+    def latency_s(self) -> float: ...
+    @property
+    def batch_latency_s(self) -> float | None: ...
+    @property
+    def prompt_tokens(self) -> int | None: ...
+    @property
+    def completion_tokens(self) -> int | None: ...
+    @property
+    def finish_reason(self) -> str | None: ...
+
+
+def usage_of(source: Usage) -> dict[str, Any]:
+    """The :data:`USAGE_FIELDS` of ``source``, as keyword arguments for the next holder."""
+    return {name: getattr(source, name) for name in USAGE_FIELDS}
 
 
 def episode_key(task_id: str, seed: int, variant: str) -> str:
