@@ -145,7 +145,7 @@ def test_planning_only_gallery_has_no_execution_legend(
 
 def _report_gallery(real_runs: dict[str, Path], out: Path) -> list[Path]:
     from vlm_bench.report import load, report_options
-    from vlm_bench.report.gallery import write_galleries
+    from vlm_bench.report.gallery_index import write_galleries
 
     runs = tuple(str(real_runs[m]) for m in ("oracle", "random", "mock"))
     frame = load(*runs)

@@ -17,7 +17,7 @@ from rich.console import Console
 from vlm_bench.cli.options import PIPE_WIDTH
 
 if TYPE_CHECKING:
-    from vlm_bench.report.make import Report
+    from vlm_bench.report.contents import Report
 
 console = Console()
 """Width of the tables when stdout is no terminal (a pipe or file), as with ``--out``."""

@@ -6,6 +6,7 @@
 """
 
 from vlm_bench.report.bootstrap import bootstrap_cis
+from vlm_bench.report.contents import Report
 from vlm_bench.report.dataframe import (
     COLUMNS,
     EXEC_METRICS,
@@ -24,7 +25,7 @@ from vlm_bench.report.diagnostics import (
 from vlm_bench.report.groups import SUITES, Grouping, grouping, paper_columns, paper_grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import DERIVED, SETTINGS, load
-from vlm_bench.report.make import Report, build_report, make_report, render_tables
+from vlm_bench.report.make import build_report, make_report, render_tables
 from vlm_bench.report.paired import PairedComparison, paired_comparison, paired_table, sign_test
 from vlm_bench.report.report_options import ReportOptions, report_options
 from vlm_bench.report.summary import (

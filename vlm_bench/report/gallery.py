@@ -31,10 +31,7 @@ from vlm_bench.types.run import RunManifest
 from vlm_bench.types.task import SUITE_TITLES
 
 if TYPE_CHECKING:
-    import pandas as pd  # type: ignore[import-untyped, unused-ignore]
-
     from vlm_bench.report.gallery_views import EpisodeViews
-    from vlm_bench.report.report_options import ReportOptions
 
 TEMPLATE = "gallery.html.j2"
 VIDEO_TYPES = {".mp4": "video/mp4", ".webm": "video/webm", ".gif": "image/gif"}
@@ -236,23 +233,3 @@ def build_gallery(
 def write_gallery(run_dir: Path, out: Path, inline: bool = False, render: bool = True) -> Path:
     """Write ``out/index.html`` (and ``out/img/``) for one run folder; returns the page."""
     return build_gallery(run_dir, out, inline, render).page
-
-
-def write_galleries(frame: pd.DataFrame, folder: Path, options: ReportOptions) -> list[Path]:
-    """One gallery per run of the report in ``folder/<run>/``, an index over them all
-    (``folder/index.html``) and a page per episode comparing the runs
-    (``folder/compare/``, :mod:`vlm_bench.report.gallery_index`)."""
-    from vlm_bench.report.gallery_index import write_index
-
-    runs = frame.drop_duplicates("run")[["run", "run_dir"]].itertuples(index=False, name=None)
-    galleries = [
-        build_gallery(
-            Path(run_dir),
-            folder / str(run).replace("/", "_"),
-            inline=options.inline_images,
-            render=options.render_missing,
-            name=str(run),
-        )
-        for run, run_dir in runs
-    ]
-    return [*(g.page for g in galleries), *write_index(folder, galleries)]

@@ -1,4 +1,5 @@
-"""The gallery across the runs of a report: an index page and one compare page per episode.
+"""The gallery across the runs of a report: each run's gallery, an index page and one compare
+page per episode.
 
 ``<folder>/index.html`` lists the runs (settings, episodes, mean S_total, exact plans) with
 links to their galleries, then every episode as a row with each run's S_total and outcome.
@@ -12,12 +13,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from vlm_bench.report.gallery import EXECUTIONS, OUTCOMES, Card, RunGallery, _environment
+from vlm_bench.report.gallery import (
+    EXECUTIONS,
+    OUTCOMES,
+    Card,
+    RunGallery,
+    _environment,
+    build_gallery,
+)
 from vlm_bench.report.plan_diff import gt_text
 from vlm_bench.storage.jsonl import write_text_atomic
 from vlm_bench.types.prompt import VIEWS
 from vlm_bench.types.task import SUITE_TITLES
+
+if TYPE_CHECKING:
+    import pandas as pd  # type: ignore[import-untyped, unused-ignore]
+
+    from vlm_bench.report.report_options import ReportOptions
 
 INDEX_TEMPLATE = "gallery_index.html.j2"
 COMPARE_TEMPLATE = "gallery_compare.html.j2"
@@ -122,3 +136,21 @@ def write_index(folder: Path, galleries: list[RunGallery]) -> list[Path]:
     )
     write_text_atomic(index, html)
     return [index, *written]
+
+
+def write_galleries(frame: pd.DataFrame, folder: Path, options: ReportOptions) -> list[Path]:
+    """One gallery per run of the report in ``folder/<run>/``, an index over them all
+    (``folder/index.html``) and a page per episode comparing the runs
+    (``folder/compare/``)."""
+    runs = frame.drop_duplicates("run")[["run", "run_dir"]].itertuples(index=False, name=None)
+    galleries = [
+        build_gallery(
+            Path(run_dir),
+            folder / str(run).replace("/", "_"),
+            inline=options.inline_images,
+            render=options.render_missing,
+            name=str(run),
+        )
+        for run, run_dir in runs
+    ]
+    return [*(g.page for g in galleries), *write_index(folder, galleries)]

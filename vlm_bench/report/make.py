@@ -9,13 +9,13 @@ galleries).
 from __future__ import annotations
 
 import importlib.util
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError
 from vlm_bench.report.bootstrap import bootstrap_cis
+from vlm_bench.report.contents import Report
 from vlm_bench.report.dataframe import csv_ready
 from vlm_bench.report.diagnostics import (
     error_code_table,
@@ -23,7 +23,7 @@ from vlm_bench.report.diagnostics import (
     loc_over_blind_run,
     parse_tier_rates,
 )
-from vlm_bench.report.groups import Grouping, grouping
+from vlm_bench.report.groups import grouping
 from vlm_bench.report.latex import latex_document, summary_latex
 from vlm_bench.report.load import load
 from vlm_bench.report.marks import partial_warnings
@@ -44,24 +44,6 @@ from vlm_bench.storage.jsonl import write_text_atomic
 
 PAIRED_METRICS = ("S_total", "Succ", "S_loc")
 """Metrics of ``--paired`` (plus ``exec_success`` when both runs executed plans)."""
-
-
-@dataclass
-class Report:
-    """Everything a report shows, computed from the runs' records."""
-
-    options: ReportOptions
-    frame: pd.DataFrame
-    """One row per episode (:func:`vlm_bench.report.load`)."""
-    groupings: list[Grouping]
-    tables: dict[str, pd.DataFrame]
-    """Long summary per grouping name (:func:`vlm_bench.report.summary.summary_long`)."""
-    cis: dict[str, pd.DataFrame] = field(default_factory=dict)
-    """Bootstrap intervals per grouping name (with ``stats``)."""
-    sections: list[Section] = field(default_factory=list)
-    """Statistics as display tables, in order."""
-    loop_curve: pd.DataFrame | None = None
-    """Succ@k of the closed-loop runs (:mod:`vlm_bench.report.closed_loop`), if any."""
 
 
 def _require(package: str, extra: str) -> None:
@@ -321,7 +303,7 @@ def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Pat
 
             written.append(plot_succ_at_k(report.loop_curve, options.plots / "succ_at_k.png"))
     if options.gallery is not None:
-        from vlm_bench.report.gallery import write_galleries
+        from vlm_bench.report.gallery_index import write_galleries
 
         written.extend(write_galleries(report.frame, options.gallery, options))
     return written

@@ -28,7 +28,7 @@ from vlm_bench.report.tables import HEADERS
 from vlm_bench.types.plan import HORIZONTAL_DIRECTIONS
 
 if TYPE_CHECKING:
-    from vlm_bench.report.make import Report
+    from vlm_bench.report.contents import Report
 
 PLANNING = ("S_plan", "S_loc", "S_obj", "S_skill")
 SECTORS = tuple(d.value for d in HORIZONTAL_DIRECTIONS)
