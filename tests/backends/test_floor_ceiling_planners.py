@@ -13,7 +13,7 @@ from vlm_bench.backends import blind_planner
 from vlm_bench.backends.blind_planner import blind_plan, guess_moves, segment_table, segments
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
-from vlm_bench.types import Direction
+from vlm_bench.types.plan import Direction
 
 D = Direction
 

@@ -15,8 +15,8 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.episodes.materialise import materialise, to_text
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.rules import body_bearing_deg, move_stop, quantise_bearing
-from vlm_bench.types import ArmStep, Direction, UavStep
 from vlm_bench.types.geometry import APPROACH
+from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 SEEDS = range(10)
 UPDATE_GOLDEN = os.environ.get("VLM_BENCH_UPDATE_GOLDEN") == "1"

@@ -13,20 +13,11 @@ from PIL import Image
 from vlm_bench.catalog.skills import skills
 from vlm_bench.errors import ConfigError
 from vlm_bench.prompting import build_prompt, prompt_config_hash, render_system, render_text
-from vlm_bench.types import (
-    ArmStep,
-    Direction,
-    Episode,
-    EpisodeObject,
-    Goal,
-    Instructions,
-    Lighting,
-    PartRef,
-    UavPose,
-    UavStep,
-)
+from vlm_bench.types.episode import Episode, EpisodeObject, Lighting, PartRef, UavPose
 from vlm_bench.types.generation import GenerationRequest, ImagePart, RequestMeta, TextPart
+from vlm_bench.types.plan import ArmStep, Direction, UavStep
 from vlm_bench.types.prompt import ImageSlot, PromptConfig
+from vlm_bench.types.task import Goal, Instructions
 
 GOLDEN = Path(__file__).parent / "golden"
 UPDATE = os.environ.get("VLM_BENCH_UPDATE_GOLDEN") == "1"

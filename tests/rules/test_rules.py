@@ -30,9 +30,9 @@ from vlm_bench.rules.approach import (
     altitude_error,
     horizontal_distance,
 )
-from vlm_bench.types import Direction
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.geometry import APPROACH
+from vlm_bench.types.plan import Direction
 
 SEEDS = range(10)
 

@@ -23,6 +23,7 @@ from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.vla import (
+    PolicyOutput,
     Proprioception,
     VlaAction,
     VlaObservation,
@@ -36,7 +37,6 @@ from vlm_bench.vla.action import (
     gripper_command_to_opening,
     joint_limits,
 )
-from vlm_bench.vla.hierarchical import PolicyOutput
 from vlm_bench.vla.observation import PROPRIO_SIZE
 
 PICK = ArmStep(object="gray_cube", skill="pick")

@@ -7,9 +7,6 @@ backend imports its own when it is built.
 from vlm_bench.backends.backend import Backend, BackendArgs, parse_args
 from vlm_bench.backends.backend_registry import (
     BACKENDS,
-    ENTRY_POINT_GROUP,
-    BackendEntry,
-    BackendFactory,
     load_plugins,
     operational_args,
     parse_model_args,
@@ -19,11 +16,8 @@ from vlm_bench.backends.backend_registry import (
 
 __all__ = [
     "BACKENDS",
-    "ENTRY_POINT_GROUP",
     "Backend",
     "BackendArgs",
-    "BackendEntry",
-    "BackendFactory",
     "load_plugins",
     "operational_args",
     "parse_args",

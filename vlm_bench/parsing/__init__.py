@@ -5,21 +5,13 @@ Parsing never raises on model output; see :func:`parse_plan` and
 """
 
 from vlm_bench.parsing.parser import error_result, parse_plan
-from vlm_bench.parsing.schema import (
-    is_valid,
-    plan_json_schema,
-    schema_violations,
-    step_json_schema,
-)
-from vlm_bench.parsing.vocab import object_id, token
+from vlm_bench.parsing.schema import is_valid, plan_json_schema, schema_violations, step_json_schema
 
 __all__ = [
     "error_result",
     "is_valid",
-    "object_id",
     "parse_plan",
     "plan_json_schema",
     "schema_violations",
     "step_json_schema",
-    "token",
 ]

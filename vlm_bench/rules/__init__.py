@@ -7,37 +7,23 @@ working point is in reach, which of the eight directions a move takes, where a m
 and in which order the UAV climbs or descends, and how the scene changes after each skill.
 """
 
-from vlm_bench.rules.approach import Leg, UavState, WorkPoint, ambiguity, approach_moves
-from vlm_bench.rules.frame import (
-    SECTOR_DEG,
-    body_bearing_deg,
-    move_stop,
-    quantise_bearing,
-    rotate_xy,
-    wrap_deg,
-)
+from vlm_bench.rules.approach import UavState, WorkPoint, ambiguity, approach_moves
+from vlm_bench.rules.frame import body_bearing_deg, move_stop, quantise_bearing, rotate_xy, wrap_deg
 from vlm_bench.rules.replan import remaining_arm_steps
-from vlm_bench.rules.scene_plan import Segment, plan_from_scene, plan_segments
+from vlm_bench.rules.scene_plan import plan_from_scene, plan_segments
 from vlm_bench.rules.scene_text import SceneEntry, format_scene, parse_scene, scene_entries
 from vlm_bench.rules.work import (
-    CONTAINER_FLOOR,
     DRAWER_FLOOR_BELOW_HANDLE,
     DRAWER_INSIDE_BEHIND_HANDLE,
     DRAWER_PULL,
-    RuleNumbers,
     rule_numbers,
 )
 
 __all__ = [
-    "CONTAINER_FLOOR",
     "DRAWER_FLOOR_BELOW_HANDLE",
     "DRAWER_INSIDE_BEHIND_HANDLE",
     "DRAWER_PULL",
-    "SECTOR_DEG",
-    "Leg",
-    "RuleNumbers",
     "SceneEntry",
-    "Segment",
     "UavState",
     "WorkPoint",
     "ambiguity",

@@ -16,38 +16,12 @@ The VLA metrics (S_pos, S_arm, S_safe) score every replay, scripted or not, so t
 :mod:`vlm_bench.executor.vla_metrics`.
 """
 
-from vlm_bench.vla.action import (
-    ACTION_FIELDS,
-    MAX_UAV_STEP_M,
-    MAX_YAW_STEP_RAD,
-    VlaAction,
-    apply_action,
-)
-from vlm_bench.vla.closed_loop import ClosedLoopResult, Planner, run_closed_loop
-from vlm_bench.vla.hierarchical import (
-    DEFAULT_MAX_STEPS,
-    Policy,
-    PolicyOutput,
-    grasped_object,
-    policy_skills,
-)
-from vlm_bench.vla.observation import (
-    PROPRIO_FIELDS,
-    ObservationConfig,
-    Proprioception,
-    VlaObservation,
-)
+from vlm_bench.vla.action import VlaAction, apply_action
+from vlm_bench.vla.closed_loop import run_closed_loop
+from vlm_bench.vla.hierarchical import PolicyOutput, grasped_object, policy_skills
+from vlm_bench.vla.observation import Proprioception, VlaObservation
 
 __all__ = [
-    "ACTION_FIELDS",
-    "DEFAULT_MAX_STEPS",
-    "MAX_UAV_STEP_M",
-    "MAX_YAW_STEP_RAD",
-    "PROPRIO_FIELDS",
-    "ClosedLoopResult",
-    "ObservationConfig",
-    "Planner",
-    "Policy",
     "PolicyOutput",
     "Proprioception",
     "VlaAction",
