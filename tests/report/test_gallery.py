@@ -11,6 +11,7 @@ import pytest
 
 from vlm_bench.report.gallery import write_gallery
 from vlm_bench.report.plan_diff import failed_step, plan_diff
+from vlm_bench.runner.run_views import run_views
 from vlm_bench.types.parse import ParsedStep
 
 GT = [
@@ -59,7 +60,7 @@ def test_failed_step_reads_the_executors_reason() -> None:
 
 
 def _gallery(real_runs: dict[str, Path], out: Path, inline: bool = False) -> str:
-    page = write_gallery(real_runs["mock"], out, inline=inline, render=False)
+    page = write_gallery(real_runs["mock"], out, inline=inline, views=run_views(render=False))
     return page.read_text(encoding="utf-8")
 
 
@@ -87,7 +88,7 @@ def test_gallery_shows_a_recorded_video(real_runs: dict[str, Path], tmp_path: Pa
     shutil.copytree(real_runs["mock"], run)
     (run / "videos").mkdir()
     (run / "videos" / "standard_pick_place_0_explicit.gif").write_bytes(b"GIF89a")
-    page = write_gallery(run, tmp_path / "g", render=False)
+    page = write_gallery(run, tmp_path / "g", views=run_views(render=False))
     html = page.read_text(encoding="utf-8")
     assert 'src="videos/standard_pick_place_0_explicit.gif"' in html
     assert (tmp_path / "g" / "videos" / "standard_pick_place_0_explicit.gif").is_file()
@@ -107,7 +108,7 @@ def test_gallery_in_headless_chromium(real_runs: dict[str, Path], tmp_path: Path
     executable = _browser()
     from playwright.sync_api import sync_playwright
 
-    page_path = write_gallery(real_runs["mock"], tmp_path / "g", render=False)
+    page_path = write_gallery(real_runs["mock"], tmp_path / "g", views=run_views(render=False))
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=executable, args=["--no-sandbox"])
         try:
@@ -149,7 +150,8 @@ def _report_gallery(real_runs: dict[str, Path], out: Path) -> list[Path]:
 
     runs = tuple(str(real_runs[m]) for m in ("oracle", "random", "mock"))
     frame = load(*runs)
-    return write_galleries(frame, out, report_options(runs=runs, render_missing=False))
+    options = report_options(runs=runs, render_missing=False)
+    return write_galleries(frame, out, options, run_views(render=False))
 
 
 def test_report_gallery_has_an_index_and_a_compare_page_per_episode(
@@ -201,3 +203,11 @@ def test_index_and_compare_pages_in_headless_chromium(
             assert errors == []
         finally:
             browser.close()
+
+
+def test_without_a_view_source_a_gallery_reads_the_run_folder_only(
+    real_runs: dict[str, Path], tmp_path: Path
+) -> None:
+    html = write_gallery(real_runs["mock"], tmp_path / "g").read_text(encoding="utf-8")
+    assert len(re.findall(r'<article class="episode"', html)) == 8
+    assert "<img " not in html and not list((tmp_path / "g").rglob("*.jpg"))

@@ -10,6 +10,7 @@ from pathlib import Path
 import vlm_bench.api as api
 from vlm_bench.backends import Backend
 from vlm_bench.report.gallery import write_gallery
+from vlm_bench.runner.run_views import run_views
 from vlm_bench.types.execution import ReplayOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 
@@ -39,7 +40,7 @@ def test_a_replan_shows_the_state_feedback_and_plan(tmp_path: Path) -> None:
         loop="closed",
         max_rounds=1,
     )
-    page = write_gallery(run, tmp_path / "gallery").read_text()
+    page = write_gallery(run, tmp_path / "gallery", views=run_views(render=True)).read_text()
     assert "Replan 1" in page and "state at the failure" in page
     assert "every step succeeded, but the task is not complete" in page
     assert "holding: nothing" in page

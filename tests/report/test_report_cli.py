@@ -120,3 +120,12 @@ def test_nothing_is_written_before_every_check_passed(
                           *outputs)  # fmt: skip
     assert result.exit_code != 0 and "nope" in str(result.exception)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_report_command_gives_the_gallery_its_views(
+    cli: Cli, real_runs: dict[str, Path], tmp_path: Path
+) -> None:
+    gallery = tmp_path / "gallery"
+    result = cli.result("report", str(real_runs["mock"]), "--gallery", str(gallery), "--no-render")
+    assert result.exit_code == 0, result.output
+    assert len(list(gallery.rglob("img/*.jpg"))) == 4 * 4  # from the runs' snapshot cache

@@ -131,7 +131,12 @@ def report(
     if options.format != "terminal" or options.out is not None:
         for warning in warnings(result):
             print(f"warning: {warning}", file=sys.stderr)
-    for path in write_outputs(result, tables):
+    views = None
+    if options.gallery is not None:  # reports read run folders only: the views come from here
+        from vlm_bench.runner.run_views import run_views
+
+        views = run_views(options.render_missing)
+    for path in write_outputs(result, tables, views):
         print(f"wrote {path}", file=sys.stderr)
     _warn_torn(options.runs)
 

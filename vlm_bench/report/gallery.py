@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import jinja2
 
 from vlm_bench.report.gallery_rounds import RoundCard, attach_round_views, round_cards
+from vlm_bench.report.gallery_views import to_jpeg
 from vlm_bench.report.plan_diff import DiffRow, failed_step, plan_diff
 from vlm_bench.storage import RunPaths, latest_records, read_manifest
 from vlm_bench.storage.jsonl import write_text_atomic
@@ -31,7 +32,7 @@ from vlm_bench.types.run import RunManifest
 from vlm_bench.types.task import SUITE_TITLES
 
 if TYPE_CHECKING:
-    from vlm_bench.report.gallery_views import EpisodeViews
+    from vlm_bench.report.gallery_views import ViewSource, ViewSources
 
 TEMPLATE = "gallery.html.j2"
 VIDEO_TYPES = {".mp4": "video/mp4", ".webm": "video/webm", ".gif": "image/gif"}
@@ -137,7 +138,7 @@ def cards(records: Iterable[EpisodeRecord], manifest: RunManifest) -> list[Card]
 
 
 def _attach_media(
-    items: list[Card], run_dir: Path, out: Path, views: EpisodeViews, inline: bool
+    items: list[Card], run_dir: Path, out: Path, views: ViewSource | None, inline: bool
 ) -> None:
     done: dict[tuple[str, int], dict[str, str]] = {}
     if not inline:
@@ -145,24 +146,27 @@ def _attach_media(
     for card in items:
         scene = (card.record.task_id, card.record.seed)
         if scene not in done:  # the two instruction variants share the scene
-            jpegs = views.views(*scene)
+            pngs = views.start_views(*scene) if views is not None else {}
             done[scene] = {
-                v: _url(data, "image/jpeg", f"img/{scene[0]}_{scene[1]}_{v}.jpg", out, inline)
-                for v, data in jpegs.items()
+                v: _url(
+                    to_jpeg(png), "image/jpeg", f"img/{scene[0]}_{scene[1]}_{v}.jpg", out, inline
+                )
+                for v in VIEWS
+                if (png := pngs.get(v)) is not None
             }
         card.views = done[scene]
         card.video = _video(run_dir, card.record, out, inline)
-        if card.rounds and views.render:
-            _attach_rounds(card, views.manifest, out, inline)
+        if card.rounds and views is not None:
+            _attach_rounds(card, views, out, inline)
 
 
-def _attach_rounds(card: Card, manifest: RunManifest, out: Path, inline: bool) -> None:
+def _attach_rounds(card: Card, views: ViewSource, out: Path, inline: bool) -> None:
     stem = f"img/{card.record.key.replace('/', '_')}"
 
     def url(round_index: int, view: str, data: bytes) -> str:
         return _url(data, "image/jpeg", f"{stem}_r{round_index}_{view}.jpg", out, inline)
 
-    attach_round_views(card.record, card.rounds, manifest, url)
+    attach_round_views(card.record, card.rounds, views, url)
 
 
 @cache
@@ -210,26 +214,32 @@ class RunGallery:
 
 
 def build_gallery(
-    run_dir: Path, out: Path, inline: bool = False, render: bool = True, name: str | None = None
+    run_dir: Path,
+    out: Path,
+    inline: bool = False,
+    views: ViewSources | None = None,
+    name: str | None = None,
 ) -> RunGallery:
-    """Write ``out/index.html`` (and ``out/img/``) for one run folder."""
-    from vlm_bench.report.gallery_views import EpisodeViews
-
+    """Write ``out/index.html`` (and ``out/img/``) for one run folder, its views from
+    ``views`` (none without)."""
     paths = RunPaths(run_dir)
     manifest = read_manifest(paths)
     items = cards(latest_records(paths.records), manifest)
     out.mkdir(parents=True, exist_ok=True)
-    views = EpisodeViews(run_dir, manifest, render)
+    source = views(run_dir, manifest) if views is not None else None
     try:
-        _attach_media(items, run_dir, out, views, inline)
+        _attach_media(items, run_dir, out, source, inline)
     finally:
-        views.close()
+        if source is not None:
+            source.close()
     page = out / "index.html"
     index = "../index.html" if name is not None else None
     write_text_atomic(page, render_page(name or run_dir.name, manifest, items, index))
     return RunGallery(name or run_dir.name, page, manifest, items)
 
 
-def write_gallery(run_dir: Path, out: Path, inline: bool = False, render: bool = True) -> Path:
+def write_gallery(
+    run_dir: Path, out: Path, inline: bool = False, views: ViewSources | None = None
+) -> Path:
     """Write ``out/index.html`` (and ``out/img/``) for one run folder; returns the page."""
-    return build_gallery(run_dir, out, inline, render).page
+    return build_gallery(run_dir, out, inline, views).page

@@ -31,6 +31,7 @@ from vlm_bench.types.task import SUITE_TITLES
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped, unused-ignore]
 
+    from vlm_bench.report.gallery_views import ViewSources
     from vlm_bench.report.report_options import ReportOptions
 
 INDEX_TEMPLATE = "gallery_index.html.j2"
@@ -138,17 +139,19 @@ def write_index(folder: Path, galleries: list[RunGallery]) -> list[Path]:
     return [index, *written]
 
 
-def write_galleries(frame: pd.DataFrame, folder: Path, options: ReportOptions) -> list[Path]:
+def write_galleries(
+    frame: pd.DataFrame, folder: Path, options: ReportOptions, views: ViewSources | None = None
+) -> list[Path]:
     """One gallery per run of the report in ``folder/<run>/``, an index over them all
     (``folder/index.html``) and a page per episode comparing the runs
-    (``folder/compare/``)."""
+    (``folder/compare/``); the views from ``views`` (none without)."""
     runs = frame.drop_duplicates("run")[["run", "run_dir"]].itertuples(index=False, name=None)
     galleries = [
         build_gallery(
             Path(run_dir),
             folder / str(run).replace("/", "_"),
             inline=options.inline_images,
-            render=options.render_missing,
+            views=views,
             name=str(run),
         )
         for run, run_dir in runs

@@ -1,9 +1,9 @@
 """A closed-loop episode's replans in the gallery: per round, the views of the state the round
 started from (the failure), the feedback the model got, its new plan and the outcome.
 
-The records keep no images of later rounds; the views are rendered again by executing the
-episode's earlier rounds (the simulation is deterministic, so these are the pixels the model
-saw), which needs MuJoCo and is skipped when the gallery may not render.
+The records keep no images of later rounds; the views come from the gallery's view source
+(:mod:`vlm_bench.report.gallery_views`), which renders them again by executing the episode's
+earlier rounds, or shows none.
 """
 
 from __future__ import annotations
@@ -12,10 +12,8 @@ import json
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from vlm_bench.report.gallery_views import to_jpeg
-from vlm_bench.types.prompt import VIEWS
+from vlm_bench.report.gallery_views import ViewSource, to_jpeg
 from vlm_bench.types.records import EpisodeRecord
-from vlm_bench.types.run import RunManifest
 
 
 @dataclass
@@ -75,29 +73,11 @@ def round_cards(record: EpisodeRecord) -> list[RoundCard]:
 def attach_round_views(
     record: EpisodeRecord,
     cards: list[RoundCard],
-    manifest: RunManifest,
+    source: ViewSource,
     url: Callable[[int, str, bytes], str],
 ) -> None:
-    """Render each replan's views by executing the rounds before it (module doc); ``url``
-    turns (round, view, JPEG bytes) into the image's URL."""
-    from vlm_bench.episodes import get_episode
-    from vlm_bench.parsing import parse_plan
-    from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, replay_rounds
-    from vlm_bench.runner.plan_executor import record_plan
-
-    config = manifest.config
-    first = record_plan(record)
-    if not cards or first is None or record.rounds is None:
-        return
-    plans = [tuple(first)]
-    ids = get_episode(record.task_id, record.seed).object_ids()
-    for row in record.rounds:
-        steps = parse_plan(row.raw_output, ids).valid_steps() if row.parse is not None else []
-        plans.append(tuple(steps[: len(row.plan or ())]))
-    state = StateRequest(VIEWS, config.resolution, config.labels)
+    """Each replan's views from ``source``; ``url`` turns (round, view, JPEG bytes) into the
+    image's URL."""
     for card in cards:
-        rounds = tuple(plans[: card.round])
-        job = LoopJob(record.task_id, record.seed, config.uav_noise, config.perturb, rounds, state)
-        shown = replay_rounds(job).state
-        if shown is not None:
-            card.views = {v: url(card.round, v, to_jpeg(png)) for v, png in shown.images.items()}
+        shown = source.round_views(record, card.round)
+        card.views = {v: url(card.round, v, to_jpeg(png)) for v, png in shown.items()}

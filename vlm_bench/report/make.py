@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib.util
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
@@ -41,6 +42,9 @@ from vlm_bench.report.summary import (
 from vlm_bench.report.tables import summary_markdown
 from vlm_bench.report.text import frame_markdown
 from vlm_bench.storage.jsonl import write_text_atomic
+
+if TYPE_CHECKING:
+    from vlm_bench.report.gallery_views import ViewSources
 
 PAIRED_METRICS = ("S_total", "Succ", "S_loc")
 """Metrics of ``--paired`` (plus ``exec_success`` when both runs executed plans)."""
@@ -272,12 +276,15 @@ def render_tables(report: Report) -> str | bytes:
     return "\n".join(parts)
 
 
-def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Path]:
+def write_outputs(
+    report: Report, tables: str | bytes | None = None, views: ViewSources | None = None
+) -> list[Path]:
     """Write the files the options ask for; returns their paths.
 
     Args:
         report: From :func:`build_report`.
         tables: The rendered tables for ``options.out`` (None: not written here).
+        views: The galleries' views (:mod:`vlm_bench.report.gallery_views`; None: no views).
     """
     options = report.options
     written: list[Path] = []
@@ -305,12 +312,15 @@ def write_outputs(report: Report, tables: str | bytes | None = None) -> list[Pat
     if options.gallery is not None:
         from vlm_bench.report.gallery_index import write_galleries
 
-        written.extend(write_galleries(report.frame, options.gallery, options))
+        written.extend(write_galleries(report.frame, options.gallery, options, views))
     return written
 
 
-def make_report(options: ReportOptions) -> tuple[Report, list[Path]]:
-    """Build the report and write its files (``options.out`` gets the formatted tables)."""
+def make_report(
+    options: ReportOptions, views: ViewSources | None = None
+) -> tuple[Report, list[Path]]:
+    """Build the report and write its files (``options.out`` gets the formatted tables); a
+    gallery's views come from ``views`` (e.g. :func:`vlm_bench.runner.run_views.run_views`)."""
     report = build_report(options)
     tables = render_tables(report) if options.out is not None else None
-    return report, write_outputs(report, tables)
+    return report, write_outputs(report, tables, views)

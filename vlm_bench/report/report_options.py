@@ -57,7 +57,9 @@ class ReportOptions(Frozen):
         default=False, description="Gallery: images inside the HTML (else files beside it)."
     )
     render_missing: bool = Field(
-        default=True, description="Gallery: render views missing from the snapshot cache."
+        default=True,
+        description="Gallery: render views missing from the snapshot cache (the CLI's view "
+        "source does; the report itself reads run folders only).",
     )
     n_boot: int = Field(default=2000, ge=100, le=100_000, description="Bootstrap replicates.")
     seed: int = Field(default=0, ge=0, description="Bootstrap seed.")
