@@ -37,6 +37,8 @@ def _args(cli: Cli, out: Path) -> list[str]:
     return cli.run_args(out, "oracle", TASKS, "0-1", *options)
 
 
+# The default suite's SIGKILL-and-resume test is test_replays.py's, with parallel replays.
+@pytest.mark.slow  # three runs of 40 episodes: about a minute on a 2-core machine
 def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Path) -> None:
     killed_dir = tmp_path / "killed" / "run"
     clean_dir = tmp_path / "clean" / "run"  # same folder name: same run id
@@ -70,13 +72,20 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Pa
     assert records.read_bytes().endswith(b"\n")
 
 
-def test_ctrl_c_exits_130_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    ("signum", "code", "said"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+    ids=["ctrl_c", "sigterm"],
+)
+def test_ctrl_c_or_sigterm_exits_with_a_resume_hint(
+    cli: Cli, tmp_path: Path, signum: int, code: int, said: str
+) -> None:
     out = tmp_path / "run"
-    command = cli.command(*_args(cli, out))
+    args = cli.run_args(out, "oracle", TASKS[:2], "0-1", "--resolution", "32", "--no-execute")
     # pytest-xdist workers ignore SIGINT and children inherit that; restore the default so
     # the child Python installs its KeyboardInterrupt handler, as in a user's terminal.
     proc = subprocess.Popen(
-        command,
+        cli.command(*args, "--batch-size", "1"),
         cwd=ROOT,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
@@ -85,34 +94,10 @@ def test_ctrl_c_exits_130_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
     )
     records = out / "records.jsonl"
     cli.wait_for_records(proc, records, 2, timeout=50)
-    proc.send_signal(signal.SIGINT)
+    proc.send_signal(signum)
     _, stderr = proc.communicate(timeout=60)
-    assert proc.returncode == 130, stderr
-    assert "interrupted" in stderr and "re-run the same command to resume" in stderr
-    assert "Traceback" not in stderr
-    done = len(read_records(records))  # every line written is a complete record
-    assert 2 <= done < TOTAL
-    resumed = cli.run(*_args(cli, out))
-    assert resumed.returncode == 0, resumed.stderr
-    assert len(latest_records(records)) == TOTAL
-
-
-def test_sigterm_exits_143_with_a_resume_hint(cli: Cli, tmp_path: Path) -> None:
-    out = tmp_path / "run"
-    args = cli.run_args(out, "oracle", TASKS[:2], "0-1", "--resolution", "32", "--no-execute")
-    proc = subprocess.Popen(
-        cli.command(*args, "--batch-size", "1"),
-        cwd=ROOT,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    records = out / "records.jsonl"
-    cli.wait_for_records(proc, records, 2, timeout=50)
-    proc.send_signal(signal.SIGTERM)
-    _, stderr = proc.communicate(timeout=60)
-    assert proc.returncode == 143, stderr
-    assert "terminated" in stderr and "re-run the same command to resume" in stderr
+    assert proc.returncode == code, stderr
+    assert said in stderr and "re-run the same command to resume" in stderr
     assert "Traceback" not in stderr
     assert 2 <= len(read_records(records)) < 8  # complete records only
     resumed = cli.run(*args)
