@@ -1,6 +1,6 @@
-"""Package faces (docs/decisions.md, "Code layout and tests"): a package's ``__init__`` re-exports what
-is imported through it (by another package, the tests, the benchmarks or the docs' examples),
-nothing more; everything else is imported from the module that defines it."""
+"""Package faces (docs/decisions.md, "Code layout and tests"): a package's ``__init__``
+re-exports what is imported through it (by another package, the tests, the benchmarks or the
+docs' examples), nothing more; everything else is imported from the module that defines it."""
 
 from __future__ import annotations
 
