@@ -135,3 +135,6 @@ def test_run_and_prompt_share_one_option_set_with_the_run_configs_defaults() -> 
         assert run_params[name].annotation == prompt_params[name].annotation, name
     assert run_params["batch_size"].default == config.generation.batch_size
     assert run_params["max_new_tokens"].default == config.generation.max_new_tokens
+    assert run_params["temperature"].default == config.generation.temperature
+    for name in ("execute", "uav_noise", "loop", "max_rounds", "history"):
+        assert run_params[name].default == getattr(config, name), name

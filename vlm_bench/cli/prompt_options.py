@@ -14,7 +14,8 @@ from vlm_bench.types.prompt import VIEWS
 from vlm_bench.types.run import RunConfig
 
 
-def _run_default(field: str) -> Any:
+def run_default(field: str) -> Any:
+    """The default of a :class:`~vlm_bench.types.run.RunConfig` field (the CLI's default)."""
     return RunConfig.model_fields[field].default
 
 
@@ -22,11 +23,12 @@ def _generation_default(field: str) -> Any:
     return GenerationConfig.model_fields[field].default
 
 
-DEFAULT_VIEWS: str = ",".join(_run_default("views"))
-DEFAULT_RESOLUTION: int = _run_default("resolution")
-DEFAULT_K_SHOT: int = _run_default("k_shot")
+DEFAULT_VIEWS: str = ",".join(run_default("views"))
+DEFAULT_RESOLUTION: int = run_default("resolution")
+DEFAULT_K_SHOT: int = run_default("k_shot")
 DEFAULT_BATCH_SIZE: int = _generation_default("batch_size")
 DEFAULT_MAX_NEW_TOKENS: int = _generation_default("max_new_tokens")
+DEFAULT_TEMPERATURE: float = _generation_default("temperature")
 
 ViewsOption = Annotated[str, typer.Option("--views", help="Views shown, comma-separated.")]
 ResolutionOption = Annotated[int, typer.Option("--resolution", help="Snapshot side in pixels.")]

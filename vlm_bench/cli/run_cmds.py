@@ -26,6 +26,7 @@ from vlm_bench.cli.prompt_options import (
     DEFAULT_K_SHOT,
     DEFAULT_MAX_NEW_TOKENS,
     DEFAULT_RESOLUTION,
+    DEFAULT_TEMPERATURE,
     DEFAULT_VIEWS,
     KShotOption,
     NoImagesOption,
@@ -35,6 +36,7 @@ from vlm_bench.cli.prompt_options import (
     SceneAsTextOption,
     ViewsOption,
     prompt_fields,
+    run_default,
 )
 from vlm_bench.errors import ConfigError, option_error
 
@@ -188,7 +190,7 @@ def run(
     max_new_tokens: Annotated[
         int, typer.Option(help="Most tokens generated.")
     ] = DEFAULT_MAX_NEW_TOKENS,
-    temperature: Annotated[float, typer.Option(help="0 = greedy.")] = 0.0,
+    temperature: Annotated[float, typer.Option(help="0 = greedy.")] = DEFAULT_TEMPERATURE,
     sampling: Annotated[
         bool,
         typer.Option(
@@ -202,18 +204,20 @@ def run(
     execute: Annotated[
         bool,
         typer.Option("--execute/--no-execute", help="Execute every valid plan in the simulator."),
-    ] = True,
+    ] = run_default("execute"),
     uav_noise: Annotated[
         float,
         typer.Option(
             help="Gust force std on the UAV in N during execution (the paper's UAV Disturb.)."
         ),
-    ] = 0.0,
+    ] = run_default("uav_noise"),
     loop: Annotated[
         str,
         typer.Option(help="open: one plan per episode; closed: replan after a failed round."),
-    ] = "open",
-    max_rounds: Annotated[int, typer.Option(help="Closed loop: replans after round 0 (K).")] = 3,
+    ] = run_default("loop"),
+    max_rounds: Annotated[
+        int, typer.Option(help="Closed loop: replans after round 0 (K).")
+    ] = run_default("max_rounds"),
     step_budget: Annotated[
         int | None,
         typer.Option(help="Closed loop: steps over all rounds (default 3 x the GT plan's)."),
@@ -224,7 +228,7 @@ def run(
             help="Closed loop, multi-turn backends: earlier rounds as text (only the current "
             "views as images) or with their views (images)."
         ),
-    ] = "text",
+    ] = run_default("history"),
     perturb: Annotated[
         str | None,
         typer.Option(
