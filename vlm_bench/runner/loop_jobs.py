@@ -3,9 +3,11 @@
 A :class:`LoopJob` holds every round's plan so far; the worker executes them one after another
 on one :class:`~vlm_bench.executor.live_episode.LiveEpisode` from the episode's fresh scene and,
 where the last round failed and the episode may replan, describes the state it ended in (the
-episode as it stands, what is held, the views). The simulation is deterministic, so running
-the earlier rounds again reproduces the state they left, whichever worker runs the job: a job
-is a pure function of the episode, the settings and the plans, as a resume needs.
+episode as it stands, what is held, the views) and freezes the live episode
+(:mod:`~vlm_bench.executor.live_snapshot`). A job that carries the frozen state its earlier
+rounds left thaws it and executes the last round only; one without (a resume, a retried
+job) executes every round from the fresh scene. Both give the same result bit for bit, so a
+job is a pure function of the episode, the settings and the plans, whichever worker runs it.
 """
 
 from __future__ import annotations
@@ -42,6 +44,8 @@ class LoopJob:
     rounds: tuple[Steps, ...]
     state: StateRequest | None
     """Describe the state after the last round when it fails (None: the episode ends)."""
+    snapshot: bytes | None = None
+    """The live episode frozen after every round but the last (None: execute them all)."""
 
     @property
     def key(self) -> str:
@@ -71,29 +75,40 @@ class RoundsReplayed:
     state: LiveState | None
     crash: str | None = None
     """The executor's exception, where it raised (the last execution says so too)."""
+    snapshot: bytes | None = None
+    """The live episode frozen after the last round, where ``state`` is given (to continue)."""
 
 
 def replay_rounds(job: LoopJob) -> RoundsReplayed:
-    """Execute ``job``'s rounds in this process (see module doc)."""
+    """Execute ``job``'s rounds in this process (see module doc); the executions returned
+    are those of the rounds it executed (the last only, where it started from a snapshot)."""
     from vlm_bench.episodes import get_episode
     from vlm_bench.executor.live_episode import LiveEpisode
+    from vlm_bench.executor.live_snapshot import freeze, thaw
     from vlm_bench.executor.live_state import episode_now, render_now
     from vlm_bench.sim.mujoco_log import route_mujoco_log
+    from vlm_bench.sim.scene import build_spec
 
     route_mujoco_log()
     episode = get_episode(job.task_id, job.seed)
-    live = LiveEpisode(episode, executor_config(episode, job.uav_noise), perturb=job.perturb)
+    rounds = job.rounds
+    if job.snapshot is not None:
+        live = thaw(job.snapshot, build_spec(episode))
+        rounds = rounds[-1:]
+    else:
+        live = LiveEpisode(episode, executor_config(episode, job.uav_noise), perturb=job.perturb)
     executions: list[ExecutionSummary] = []
-    for steps in job.rounds:
+    for steps in rounds:
         try:
             executions.append(ExecutionSummary.of(live.execute(list(steps))))
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
             summary = crash_summary(exc, 0.0)
             executions.append(summary)
             return RoundsReplayed(tuple(executions), None, summary.failure_reason)
-    state = None
+    state, snapshot = None, None
     if job.state is not None and not executions[-1].exec_success:
+        snapshot = freeze(live)  # before rendering, which must not reach the continuation
         now = episode_now(live)
         images = render_now(live, now, job.state.views, job.state.size, job.state.labels)
         state = LiveState(now, live.held, images)
-    return RoundsReplayed(tuple(executions), state)
+    return RoundsReplayed(tuple(executions), state, snapshot=snapshot)

@@ -75,6 +75,8 @@ class _Live:
     executed: list[ExecutedStep] = field(default_factory=list)
     ask: Ask | None = None
     feedback: Feedback | None = None
+    snapshot: bytes | None = None
+    """The live episode frozen where the last round left it (the next round starts there)."""
 
     def executions(self) -> list[ExecutionSummary | None]:
         return [self.first.execution, *(r.execution for r in self.rounds)]
@@ -217,7 +219,9 @@ class LoopReplays:
             if not future.done():
                 continue
             del running[key]
-            self._jobs.pop(key, None)
+            job, _ = self._jobs.pop(key)
+            if future not in running.values():  # results (snapshots) are held while needed
+                self._futures.pop(job.key, None)
             try:
                 replayed = future.result()
             # The executor's own exceptions come back as crash summaries (replay_rounds): what
@@ -251,7 +255,10 @@ class LoopReplays:
         ep = live.episode
         if not self._running:  # the stall clock runs while executions are in flight
             self._last_progress = time.monotonic()
-        job = LoopJob(ep.task_id, ep.seed, c.uav_noise, c.perturb, tuple(live.plans), state)
+        job = LoopJob(
+            ep.task_id, ep.seed, c.uav_noise, c.perturb, tuple(live.plans), state, live.snapshot
+        )
+        live.snapshot = None  # the job holds it while it runs
         future = self._futures.get(job.key)
         if future is None:
             future = self._futures[job.key] = self.pool.submit_call(replay_rounds, job)
@@ -309,6 +316,7 @@ class LoopReplays:
             self.stats.crashes += 1
             if len(self.stats.crash_messages) < 5:
                 self.stats.crash_messages.append(f"{key}: {replayed.crash}")
+        live.snapshot = replayed.snapshot
         if live.rounds:
             live.rounds[-1] = live.rounds[-1].model_copy(update={"execution": summary})
         else:

@@ -107,6 +107,11 @@ class UavController:
         self.yaw_setpoint = 2.0 * math.atan2(float(z), float(w))
         self._data_views: _Views | None = None
 
+    def __getstate__(self) -> dict[str, object]:
+        """Pickled without the views into MjData: a pickle copies a view, which then no longer
+        follows the data (they are made again on first use, executor/live_snapshot.py)."""
+        return {**self.__dict__, "_data_views": None}
+
     def set_setpoint(self, pos: Sequence[float] | Array, yaw_deg: float) -> None:
         """Hold position ``pos`` (m, world) and heading ``yaw_deg`` (deg, CCW from world +x)."""
         self.setpoint = np.array(pos, dtype=np.float64)
