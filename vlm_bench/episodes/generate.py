@@ -24,6 +24,7 @@ from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
 from vlm_bench.rules.approach import VERTICAL_MARGIN
 from vlm_bench.sim.cameras import third_person_views
+from vlm_bench.sim.legible_views import legible_views
 from vlm_bench.sim.view_sizes import frame_problem, legibility_score, object_pixel_sizes
 from vlm_bench.types.episode import Episode, EpisodeObject, Lighting, PartRef, UavPose
 from vlm_bench.types.geometry import APPROACH
@@ -177,20 +178,30 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
             episode = episode.model_copy(update={"object_px": sizes})
             score = legibility_score(episode, sizes)
             if score >= 1.0 or seed == 0:
-                return episode
+                return _shown(episode)
             tries += 1
             if best is None or score > best[0]:
                 best = (score, episode)
             if tries >= LEGIBLE_TRIES:
-                return best[1]
+                return _shown(best[1])
             break
     if best is not None:
-        return best[1]
+        return _shown(best[1])
     top = sorted(reasons.items(), key=lambda kv: -kv[1])[:3]
     raise EpisodeGenerationError(
         f"task {task.id!r} seed {seed}: no valid layout in {MAX_ATTEMPTS} attempts "
         f"(most common: {top})"
     )
+
+
+def _shown(episode: Episode) -> Episode:
+    """The kept episode with the sizes of the views it is shown with: layouts are judged in
+    the standard framing, which a layout still under the bound trades for the close-up
+    (:mod:`vlm_bench.sim.legible_views`)."""
+    if legibility_score(episode, episode.object_px) >= 1.0:
+        return episode
+    sizes = object_pixel_sizes(episode, views=legible_views(episode))
+    return episode.model_copy(update={"object_px": sizes})
 
 
 def _count(reasons: dict[str, int], exc: ValueError) -> None:
