@@ -20,6 +20,7 @@ and the other objects may hide the fewest objects is taken, else the most legibl
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import lru_cache
 from typing import TYPE_CHECKING
 
@@ -47,6 +48,7 @@ from vlm_bench.sim.cameras import (
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE, DEFAULT_IMAGE_SIZE
 from vlm_bench.sim.framing import fits, image_span, occluded, view_xyaxes
 from vlm_bench.sim.view_sizes import legibility_score, object_pixel_sizes
+from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode
 
 if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
@@ -71,18 +73,23 @@ def _joined(overhead: dict[str, float], side: dict[str, float]) -> Sizes:
     return {oid: {CAM_OVERHEAD: px, CAM_SIDE: side[oid]} for oid, px in overhead.items()}
 
 
-def _may_hide(episode: Episode, pos: np.ndarray) -> set[str]:
-    """Ids of the framed objects the robot or another object may hide from a camera at
-    ``pos`` (:func:`~vlm_bench.sim.framing.occluded`, :func:`hidden_by_objects`)."""
+def _hiding(episode: Episode) -> Callable[[Vec], set[str]]:
+    """A function from a camera position to the ids of the framed objects the robot or
+    another object may hide from it (:func:`~vlm_bench.sim.framing.occluded`,
+    :func:`hidden_by_objects_each`)."""
     points, margins = framing_points(episode)
     blockers, blocker_radii = robot_spheres(episode)
     lines = sight_lines(episode)
     referenced = plan_references(episode)
     framed = [o.id for o in episode.objects if is_framed_object(o, referenced)]
-    by_robot = occluded(pos, points[1 : 1 + len(framed)], margins[1 : 1 + len(framed)],
-                        blockers, blocker_radii)  # fmt: skip
-    by_objects = hidden_by_objects_each(lines, pos)
-    return {oid for k, oid in enumerate(framed) if by_robot[k] > 0 or by_objects[k]}
+    spheres, radii = points[1 : 1 + len(framed)], margins[1 : 1 + len(framed)]
+
+    def may_hide(pos: Vec) -> set[str]:
+        by_robot = occluded(pos, spheres, radii, blockers, blocker_radii)
+        by_objects = hidden_by_objects_each(lines, pos)
+        return {oid for k, oid in enumerate(framed) if by_robot[k] > 0 or by_objects[k]}
+
+    return may_hide
 
 
 def _side_options(episode: Episode, half_room: float) -> list[tuple[set[str], CameraView]]:
@@ -91,6 +98,7 @@ def _side_options(episode: Episode, half_room: float) -> list[tuple[set[str], Ca
     points, margins = framing_points(episode)
     tail, tip = heading_arrow_ends(episode)
     preferred = preferred_side_azimuth(episode)
+    may_hide = _hiding(episode)
     out = []
     for azimuth in np.arange(0.0, 360.0, CLOSE_SIDE_AZIMUTH_STEP):
         for elevation in CLOSE_SIDE_ELEVATIONS:
@@ -101,7 +109,7 @@ def _side_options(episode: Episode, half_room: float) -> list[tuple[set[str], Ca
                     continue
                 if image_span(pos, forward, wide, tail, tip) < SIDE_MIN_ARROW:
                     continue
-                out.append((_may_hide(episode, pos), CameraView(pos, forward, wide)))
+                out.append((may_hide(pos), CameraView(pos, forward, wide)))
     return out
 
 
