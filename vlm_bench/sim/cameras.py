@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,13 +29,9 @@ from vlm_bench.sim.framing import (
     image_span,
     occluded,
     segment_hits_boxes,
-    view_xyaxes,
 )
 from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode, EpisodeObject
-
-if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
-    import mujoco
 
 OVERHEAD_FOVY = 30.0
 OVERHEAD_TILT_DEG = 11.3  # from straight down towards +y, so object heights read
@@ -115,9 +110,10 @@ def overhead_forward() -> Vec:
     return np.array([0.0, math.sin(tilt), -math.cos(tilt)])
 
 
-def side_forward(azimuth_deg: float) -> Vec:
-    """Viewing direction of a side camera standing at ``azimuth_deg`` from the area."""
-    az, elev = math.radians(azimuth_deg), math.radians(SIDE_ELEVATION_DEG)
+def side_forward(azimuth_deg: float, elevation_deg: float = SIDE_ELEVATION_DEG) -> Vec:
+    """Viewing direction of a side camera standing at ``azimuth_deg`` from the area, looking
+    down at ``elevation_deg``."""
+    az, elev = math.radians(azimuth_deg), math.radians(elevation_deg)
     return -np.array([math.cos(az) * math.cos(elev), math.sin(az) * math.cos(elev), math.sin(elev)])
 
 
@@ -202,6 +198,15 @@ def hidden_by_objects(lines: SightLines, pos: Vec) -> float:
     return 0.5 * float((hits & lines.may_hide).sum())
 
 
+def hidden_by_objects_each(lines: SightLines, pos: Vec) -> NDArray[np.bool_]:
+    """For each framed object (scene order), whether another object may hide one of its sight
+    lines from a camera at ``pos``."""
+    hits = segment_hits_boxes(pos, lines.sights, lines.centres, lines.halves, lines.yaws)
+    per_sight = np.any(hits & lines.may_hide, axis=1)
+    blocked: NDArray[np.bool_] = np.any(per_sight.reshape(-1, 2), axis=1)
+    return blocked
+
+
 def side_camera(
     episode: Episode, points: Vec, margins: Vec, half_room: float
 ) -> tuple[Vec, Vec, float]:
@@ -250,11 +255,3 @@ def third_person_views(episode: Episode) -> dict[str, CameraView]:
     forward, pos, fovy = side_camera(episode, points, margins, half_room)
     views[CAM_SIDE] = CameraView(pos, forward, fovy)
     return views
-
-
-def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
-    """Add ``overhead`` and ``side`` cameras framing the episode's work area."""
-    for name, view in third_person_views(episode).items():
-        spec.worldbody.add_camera(
-            name=name, pos=view.pos.tolist(), xyaxes=view_xyaxes(view.forward), fovy=view.fovy
-        )
