@@ -20,9 +20,7 @@ from vlm_bench.executor import execute_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
-KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("store_and_close", 9): "goal not met: inside(rubiks_cube, top_drawer)",
-}
+KNOWN_FAILURES: dict[tuple[str, int], str] = {}  # (task, seed) -> reason observed
 
 TASKS = [t.id for t in all_tasks()]
 CI_TASKS = (

@@ -10,6 +10,7 @@ import numpy as np
 
 from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.ik import top_down_rotation
 from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
 from vlm_bench.executor.skills.carry_raise import raise_to_carry
@@ -42,6 +43,7 @@ WIDE_HANG = 0.04  # m: an object whose centre of mass hangs this far off the TCP
 # its release keeping the hand's heading where it can (turning, it pries the fingers open)
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of one
 # finger's touch (an object set down on its destination can be pushed up between the pads)
+LIFT_SECONDS = 0.8  # s the hand takes to rise over its destination before a place
 RETREAT = 0.12  # m: the open hand rises at least this far after a release
 RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (more than an
 # outstretched arm's sag: farther off, it did not get there)
@@ -92,9 +94,9 @@ class Placer:
         above = release + np.array([0.0, 0.0, clearance])
         heading = math.atan2(rot[1, 0], rot[0, 0])
         lift_to = np.array([tcp[0], tcp[1], max(tcp[2], above[2])])
-        if not hand.lines.line(tcp, lift_to, top_down_rotation(heading), 0.8, GRIPPER_CLOSED):
-            # The arm cannot raise it that far on its own (folded up under the base): the
-            # UAV climbs the rest, carrying it.
+        if not self._lift(tcp, lift_to, top_down_rotation(heading), held):
+            # The arm cannot raise it that far on its own (folded up under the base) or not
+            # clear of the scene: the UAV climbs the rest, carrying it.
             hand.shift_base(BaseMove.vertical(max(0.0, lift_to[2] - hand.tcp()[0][2])))
         drop = _Drop(held, dest, release, above, heading, hand.body_geoms(held))
         planned = self._plan_release(episode, drop)
@@ -102,6 +104,20 @@ class Placer:
             return SkillFailure(FailureCode.OUT_OF_REACH, f"{dest} is out of reach")
         sol, drop = planned
         return self._release(episode, sol, drop, grip)
+
+    def _lift(self, tcp: FloatArray, to: FloatArray, rot: FloatArray, held: str) -> bool:
+        """Raise the hand straight from ``tcp`` to ``to`` where the arm's line, previewed,
+        touches nothing but ``held``; whether it got there. An arm stretched far down folds
+        up by swinging its elbow out, which can push what stands beside it (an open drawer
+        shut under the release planned into it)."""
+        hand = self.hand
+        postures = hand.lines.preview_line(tcp, to, rot, LIFT_SECONDS)
+        if postures is None:
+            return False
+        query = CollisionQuery.of(hand.body_geoms(held), GRIPPER_CLOSED, None, hand.core.carried())
+        if hand.core.hits_at(postures, query, limit=0):
+            return False
+        return hand.lines.line(tcp, to, rot, LIFT_SECONDS, GRIPPER_CLOSED)
 
     def _plan_release(self, episode: Episode, drop: _Drop) -> tuple[Reach, _Drop] | None:
         """The way down to the release, or, where it is not clear (the hand, 0.2 m long,
