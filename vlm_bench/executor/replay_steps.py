@@ -7,7 +7,7 @@ in order and stops at the first failure.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -30,9 +30,8 @@ from vlm_bench.types.execution import (
     SkillFailure,
     StepOutcome,
 )
-from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.plan import ArmStep, PlanSteps, UavStep
 
-PlanSteps = Sequence[UavStep | ArmStep]
 SkillFactory = Callable[[SimLoop], dict[str, ArmSkill]]
 
 
@@ -76,7 +75,9 @@ def episode_scene(episode: Episode, config: ExecutorConfig) -> Scene:
     """The episode's scene with the configured gusts on the UAV."""
     gust = (
         GustConfig(
-            force_std=config.uav_noise, torque_std=0.05 * config.uav_noise, seed=config.noise_seed
+            force_std=config.uav_noise,
+            torque_std=0.05 * config.uav_noise,
+            seed=config.gust_seed(episode.task_id, episode.seed),
         )
         if config.uav_noise > 0
         else None

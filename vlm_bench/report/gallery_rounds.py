@@ -97,7 +97,7 @@ def attach_round_views(
     state = StateRequest(VIEWS, config.resolution, config.labels)
     for card in cards:
         rounds = tuple(plans[: card.round])
-        job = LoopJob(record.task_id, record.seed, config.uav_noise, config.perturb, rounds, state)
+        job = LoopJob(record.task_id, record.seed, config.executor_config(), rounds, state)
         shown = replay_rounds(job).state
         if shown is not None:
             card.views = {v: url(card.round, v, to_jpeg(png)) for v, png in shown.images.items()}

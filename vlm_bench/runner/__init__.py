@@ -5,10 +5,11 @@ from vlm_bench.runner.benchmark_run import RunOutcome, make_manifest, run_benchm
 from vlm_bench.runner.cached_snapshots import SnapshotSource, snapshot_key
 from vlm_bench.runner.evaluate import Evaluation, evaluate_output
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
-from vlm_bench.runner.plan_executor import PlanExecutor, episode_noise_seed, record_plan
+from vlm_bench.runner.plan_executor import PlanExecutor, record_plan
 from vlm_bench.runner.rescore import RescoreOutcome, rescore_run, score_output
 from vlm_bench.runner.selection import EpisodeRef, default_run_dir, model_slug, select_episodes
 from vlm_bench.runner.single_replay import Replay, VideoOptions, replay_plan
+from vlm_bench.types.execution import episode_noise_seed
 
 __all__ = [
     "EpisodePipeline",

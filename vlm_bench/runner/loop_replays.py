@@ -108,6 +108,8 @@ class LoopReplays:
     ) -> None:
         self.pool = pool
         self.config = config
+        self.executor = config.executor_config()
+        """Every round's executor settings (built once)."""
         self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
         self._last_progress = time.monotonic()
         self.stats = ReplayStats()
@@ -251,7 +253,7 @@ class LoopReplays:
         ep = live.episode
         if not self._running:  # the stall clock runs while executions are in flight
             self._last_progress = time.monotonic()
-        job = LoopJob(ep.task_id, ep.seed, c.uav_noise, c.perturb, tuple(live.plans), state)
+        job = LoopJob(ep.task_id, ep.seed, self.executor, tuple(live.plans), state)
         future = self._futures.get(job.key)
         if future is None:
             future = self._futures[job.key] = self.pool.submit_call(replay_rounds, job)

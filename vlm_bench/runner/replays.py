@@ -26,9 +26,8 @@ from typing import Any, Protocol, TypeVar
 
 from vlm_bench.runner.plan_executor import PlanExecutor, record_plan
 from vlm_bench.runner.worker_lifetime import die_with_parent
-from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, ReplayOptions
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
 from vlm_bench.types.records import EpisodeRecord
 
@@ -46,16 +45,15 @@ class ReplayJob:
 
     task_id: str
     seed: int
-    uav_noise: float
+    config: ExecutorConfig
+    """Gusts and perturbations: the run's, the same for every job."""
     steps: tuple[UavStep | ArmStep, ...]
-    perturb: PerturbConfig | None = None
 
     @property
     def key(self) -> str:
-        """Identity of the replay: episode, noise, perturbations and plan."""
+        """Identity of the replay: episode, executor settings and plan."""
         plan = json.dumps(plan_to_json(list(self.steps)), sort_keys=True)
-        perturb = f"/{self.perturb.model_dump_json()}" if self.perturb is not None else ""
-        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}{perturb}:{plan}"
+        return f"{self.task_id}/{self.seed}/{self.config.model_dump_json()}:{plan}"
 
 
 J = TypeVar("J")
@@ -95,9 +93,9 @@ class ReplayPool(Protocol):
         ...
 
 
-_EXECUTORS: dict[tuple[float, PerturbConfig | None], PlanExecutor] = {}
-"""Per process (each worker's own): one executor per noise level and perturbation setting,
-which keeps the compiled scene of the episode it last replayed."""
+_EXECUTORS: dict[ExecutorConfig, PlanExecutor] = {}
+"""Per process (each worker's own): one executor per executor config, which keeps the
+compiled scene of the episode it last replayed."""
 
 
 def replay(job: ReplayJob) -> Replayed:
@@ -106,10 +104,9 @@ def replay(job: ReplayJob) -> Replayed:
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
     route_mujoco_log()  # a worker writes no MUJOCO_LOG.TXT either
-    setting = (job.uav_noise, job.perturb)
-    executor = _EXECUTORS.get(setting)
+    executor = _EXECUTORS.get(job.config)
     if executor is None:
-        executor = _EXECUTORS[setting] = PlanExecutor(job.uav_noise, job.perturb)
+        executor = _EXECUTORS[job.config] = PlanExecutor(job.config)
     episode = get_episode(job.task_id, job.seed)
     return executor.run(episode, list(job.steps))
 
@@ -238,25 +235,22 @@ class Replays:
 
     Args:
         pool: Where replays run.
-        uav_noise: Gust force std on the UAV (N) of every replay.
+        config: Executor settings of every replay (gusts, perturbations; default: none).
         on_change: Called with (submitted, finished, running, queued) after every change
             (progress displays).
         stall_s: Longest time with replays in flight and none finishing (s); default:
             :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
-        perturb: Perturbations of every replay (None: none).
     """
 
     def __init__(
         self,
         pool: ReplayPool,
-        uav_noise: float = 0.0,
+        config: ExecutorConfig | None = None,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
-        perturb: PerturbConfig | None = None,
     ) -> None:
         self.pool = pool
-        self.uav_noise = uav_noise
-        self.perturb = perturb
+        self.config = config or ExecutorConfig()
         self.stats = ReplayStats()
         self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
         self._notify = on_change
@@ -281,7 +275,7 @@ class Replays:
         steps = record_plan(record)
         if steps is None:
             return record.model_copy(update={"execution": None})
-        job = ReplayJob(episode.task_id, episode.seed, self.uav_noise, tuple(steps), self.perturb)
+        job = ReplayJob(episode.task_id, episode.seed, self.config, tuple(steps))
         if not self._pending:  # the stall clock runs while replays are in flight
             self._last_progress = time.monotonic()
         future = self._futures.get(job.key)
