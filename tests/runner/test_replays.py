@@ -20,7 +20,6 @@ from rich.console import Console
 
 import vlm_bench
 from vlm_bench.episodes import make_episode
-from vlm_bench.runner import replays as replays_module
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import (
@@ -232,7 +231,6 @@ def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
         raise ZeroDivisionError("executor bug")
 
     monkeypatch.setattr(executor, "execute_plan", broken)
-    monkeypatch.setattr(replays_module, "_EXECUTORS", {})  # no summary memoised earlier
     ep, record = _record(FAST[0])
     replays = Replays(InlinePool())
     replays.submit(ep, record)

@@ -19,7 +19,7 @@ Learned low-level policies and the gymnasium environment live above, in :mod:`vl
 from vlm_bench.executor.goals import check_goal, check_goals
 from vlm_bench.executor.plan_replay import execute_plan, next_arm_step, run_move, target_ids
 from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop, SimulatorUnstable
+from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable, Skill
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.executor.vla_metrics import vla_scores
 from vlm_bench.types.execution import (
@@ -33,13 +33,13 @@ from vlm_bench.types.execution import (
 )
 
 __all__ = [
-    "ArmSkill",
     "ExecutionResult",
     "ExecutorConfig",
     "FailureCode",
     "FlightConfig",
     "SimLoop",
     "SimulatorUnstable",
+    "Skill",
     "SkillFailure",
     "StepOutcome",
     "StepReferences",
