@@ -6,19 +6,19 @@ place yellow_basket), whose GT replay succeeds.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 import pytest
 
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor import ExecutionResult, execute_plan
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
-from vlm_bench.executor.skills.grasping import Grasper
+from vlm_bench.executor.sim_loop import SimLoop, Skill
+from vlm_bench.executor.skills.grasping import Picker
+from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.executor.skills.placing import Placer
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos, set_arm_targets
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 TASK = "color_distractor_green"
@@ -94,21 +94,16 @@ def test_picking_the_distractor_misses_the_goal_and_costs_safety(episode: Episod
     assert result.scores is not None and result.scores.s_safe < 100.0
 
 
-def _with_mid_air_release(loop: SimLoop) -> dict[str, ArmSkill]:
+def _with_mid_air_release(loop: SimLoop) -> dict[str, Skill]:
     """pick/place plus ``push`` rebound to "open the gripper where you are" (a test probe)."""
-    grasper = Grasper(loop)
+    hand = Hand(loop)
 
-    def release(loop: SimLoop, episode: Episode, step: ArmStep) -> str | None:
+    def release(episode: Episode, step: ArmStep) -> SkillFailure | None:
         set_arm_targets(loop.model, loop.data, arm_qpos(loop.model, loop.data), c.GRIPPER_OPEN)
         loop.hold(1.0)
         return None
 
-    skills: dict[str, Callable[[SimLoop, Episode, ArmStep], str | None]] = {
-        "pick": lambda _l, ep, st: grasper.pick(ep, st),
-        "place": lambda _l, ep, st: grasper.place(ep, st),
-        "push": release,
-    }
-    return skills
+    return {"pick": Picker(hand).pick, "place": Placer(hand).place, "push": release}
 
 
 def test_release_mid_air_drops_the_object_and_place_finds_nothing_held(
@@ -132,16 +127,19 @@ def test_release_mid_air_drops_the_object_and_place_finds_nothing_held(
     assert np.isfinite(final_z)
 
 
-def test_a_skill_failing_with_bare_text_is_coded_skill_failed(episode: Episode) -> None:
-    """A user's skill may return a plain reason string: it is recorded as given, coded
-    ``skill_failed``, and the code reaches the stored summary."""
+def test_a_users_skill_failure_is_recorded_as_given(episode: Episode) -> None:
+    """A user's skill (the :class:`Skill` protocol: the step in, a typed failure out) fails
+    its step with its own code and reason, and the code reaches the stored summary."""
     move, pick, _ = episode.gt_plan
 
-    def skills(loop: SimLoop) -> dict[str, ArmSkill]:
-        return {"pick": lambda _l, _e, _s: "the gripper is on strike"}
+    def on_strike(episode: Episode, step: ArmStep) -> SkillFailure | None:
+        return SkillFailure(FailureCode.SKILL_FAILED, f"the gripper is on strike ({step.object})")
+
+    def skills(loop: SimLoop) -> dict[str, Skill]:
+        return {"pick": on_strike}
 
     result = execute_plan(episode, [move, pick], arm_skills=skills)
-    assert result.failure_reason == "step 1: the gripper is on strike"
+    assert result.failure_reason == f"step 1: the gripper is on strike ({pick.object})"
     assert result.failure_code is FailureCode.SKILL_FAILED
     assert ExecutionSummary.of(result).failure_code is FailureCode.SKILL_FAILED
 

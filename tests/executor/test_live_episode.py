@@ -14,6 +14,7 @@ from vlm_bench.executor.perturb import BUMP_RANGE, Perturber
 from vlm_bench.prompting.builder import scene_text
 from vlm_bench.rules import parse_scene
 from vlm_bench.types.closed_loop import PerturbConfig
+from vlm_bench.types.execution import ExecutorConfig
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
 
 TASK = "standard_pick_place"
@@ -85,7 +86,7 @@ def test_no_bump_at_zero_probability_and_fixed_objects_stay() -> None:
 
 def test_a_slip_drops_the_held_object_once_and_place_fails() -> None:
     episode = make_episode("place_on_flat_surface", 0)  # a flight with the object in hand
-    live = LiveEpisode(episode, perturb=PerturbConfig(slip=1.0))
+    live = LiveEpisode(episode, ExecutorConfig(perturb=PerturbConfig(slip=1.0)))
     plan = [*episode.gt_plan[:-1], UavStep(direction=Direction.UP, distance=0.1)]
     result = live.execute([*plan, episode.gt_plan[-1]])  # two flights with it "in hand"
     (event,) = result.perturbations or ()

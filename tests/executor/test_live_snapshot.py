@@ -8,6 +8,7 @@ from vlm_bench.executor.live_snapshot import freeze, thaw
 from vlm_bench.executor.live_state import episode_now
 from vlm_bench.sim.scene import build_spec
 from vlm_bench.types.closed_loop import PerturbConfig
+from vlm_bench.types.execution import ExecutorConfig
 from vlm_bench.types.plan import ArmStep
 
 TASK = "place_on_flat_surface"  # its GT flies with the object in the hand
@@ -22,7 +23,7 @@ def test_a_thawed_episode_continues_bit_for_bit() -> None:
     plan = list(episode.gt_plan)
     pick = next(i for i, s in enumerate(plan) if isinstance(s, ArmStep) and s.skill == "pick")
     first, rest = plan[: pick + 1], plan[pick + 1 :]
-    live = LiveEpisode(episode, perturb=PerturbConfig(slip=0.5, bump=0.5))
+    live = LiveEpisode(episode, ExecutorConfig(perturb=PerturbConfig(slip=0.5, bump=0.5)))
     live.execute(first)  # the object is in the hand: the rest flies it (a seeded slip may fire)
     assert live.held is not None
     thawed = thaw(freeze(live), build_spec(episode))

@@ -14,8 +14,6 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = sorted(p.parent.name for p in (ROOT / "vlm_bench").glob("*/__init__.py"))
-# Reshaped by the executor/runner boundary work (issue 27); trimmed once that lands.
-PENDING = {"executor", "runner"}
 
 
 def _sources() -> Iterator[tuple[str | None, str]]:
@@ -58,15 +56,7 @@ def face(package: str) -> tuple[set[str], set[str]]:
     return imported, listed
 
 
-@pytest.mark.parametrize(
-    "package",
-    [
-        pytest.param(p, marks=pytest.mark.xfail(strict=True, reason="trimmed after issue 27"))
-        if p in PENDING
-        else p
-        for p in PACKAGES
-    ],
-)
+@pytest.mark.parametrize("package", PACKAGES)
 def test_a_face_lists_what_is_imported_through_it(package: str) -> None:
     imported, listed = face(package)
     assert imported == listed, "re-exported but not in __all__ (or the reverse)"

@@ -17,9 +17,15 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.report import EXEC_VALUES, SUMMARY_COLUMNS
 from vlm_bench.runner import PlanExecutor, episode_noise_seed, record_plan
-from vlm_bench.runner.plan_executor import CRASH_PREFIX, executor_config
+from vlm_bench.runner.plan_executor import CRASH_PREFIX
 from vlm_bench.storage import ConfigMismatchError, latest_records
-from vlm_bench.types.execution import ExecutionSummary, FailureCode, ReplayOptions
+from vlm_bench.types.closed_loop import PerturbConfig
+from vlm_bench.types.execution import (
+    ExecutionSummary,
+    ExecutorConfig,
+    FailureCode,
+    ReplayOptions,
+)
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.plan import Direction, UavStep
 from vlm_bench.types.records import EpisodeRecord
@@ -203,15 +209,15 @@ def test_rescore_in_a_pool_keeps_the_records_and_their_order(tmp_path: Path) -> 
 def test_scene_copies_replay_exactly_like_fresh_scenes() -> None:
     episode = make_episode(TASK, 1)
     plan = [UavStep(direction=Direction.UP, distance=0.2)]
-    executor = PlanExecutor(uav_noise=2.0)
-    config = executor_config(episode, 2.0)
+    executor = PlanExecutor(ExecutorConfig(uav_noise=2.0))
+    config = executor.config
     fresh = execute_plan(episode, plan, config)
     first = execute_plan(episode, plan, config, executor.scene(episode))
     second = execute_plan(episode, plan, config, executor.scene(episode))
     drop = {"wall_time_s"}
     assert fresh.model_dump(exclude=drop) == first.model_dump(exclude=drop)
     assert first.model_dump(exclude=drop) == second.model_dump(exclude=drop)
-    calm = execute_plan(episode, plan, executor_config(episode, 0.0))
+    calm = execute_plan(episode, plan, ExecutorConfig())
     assert calm.final_uav_pose != fresh.final_uav_pose  # the gusts act
 
 
@@ -219,6 +225,17 @@ def test_noise_seed_is_per_episode() -> None:
     seeds = {episode_noise_seed(t, s) for t in (TASK, "tower_stacking") for s in range(5)}
     assert len(seeds) == 10
     assert episode_noise_seed(TASK, 3) == episode_noise_seed(TASK, 3)
+    config = _config(uav_noise=2.0).executor_config()  # one config for the whole run
+    assert config.gust_seed(TASK, 3) == episode_noise_seed(TASK, 3)
+    assert ExecutorConfig(noise_seed=7).gust_seed(TASK, 3) == 7  # a fixed seed where set
+
+
+def test_a_runs_executor_config_holds_its_gusts_and_perturbations() -> None:
+    perturb = PerturbConfig(slip=0.3)
+    config = _config(uav_noise=2.0, perturb=perturb).executor_config()
+    assert config.uav_noise == 2.0 and config.perturb == perturb
+    assert config == ExecutorConfig(uav_noise=2.0, perturb=perturb)
+    assert _config().executor_config() == ExecutorConfig()  # calm, unperturbed: the default
 
 
 def test_only_usable_nonempty_plans_are_executed() -> None:
@@ -242,16 +259,15 @@ def test_only_usable_nonempty_plans_are_executed() -> None:
     assert record_plan(failed) is None
 
 
-def test_the_same_plan_on_the_same_episode_is_executed_once() -> None:
-    from vlm_bench.episodes import make_episode
-    from vlm_bench.runner.plan_executor import PlanExecutor
-    from vlm_bench.types.plan import ArmStep, Direction, UavStep
+def test_an_executor_replays_each_plan_on_a_fresh_copy_of_the_episodes_scene() -> None:
+    from vlm_bench.types.plan import ArmStep
 
-    episode = make_episode("standard_pick_place", 0)
+    episode = make_episode(TASK, 0)
     executor = PlanExecutor()
     plan: list[UavStep | ArmStep] = [UavStep(direction=Direction.UP, distance=0.1)]
-    first = executor.summary(episode, plan)
-    again = executor.summary(episode, list(plan))
-    assert again == first and executor.executed == 1 and executor.reused == 1
-    other = executor.summary(episode, [UavStep(direction=Direction.DOWN, distance=0.1)])
-    assert executor.executed == 2 and other.n_steps_done == 1
+    first, crash = executor.run(episode, plan)
+    again, _ = executor.run(episode, list(plan))
+    drop = {"wall_time_s"}
+    assert crash is None and again.model_dump(exclude=drop) == first.model_dump(exclude=drop)
+    other, _ = executor.run(episode, [UavStep(direction=Direction.DOWN, distance=0.1)])
+    assert executor.executed == 3 and other.n_steps_done == 1

@@ -13,7 +13,7 @@ from vlm_bench.episodes import make_episode
 from vlm_bench.executor import live_snapshot
 from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, replay_rounds
 from vlm_bench.types.closed_loop import PerturbConfig
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutorConfig, ReplayOptions
 from vlm_bench.types.plan import ArmStep
 from vlm_bench.types.run import RunConfig
 
@@ -26,11 +26,15 @@ def test_a_replan_from_the_snapshot_equals_one_from_re_execution() -> None:
     plan = tuple(episode.gt_plan)
     pick = next(i for i, s in enumerate(plan) if isinstance(s, ArmStep) and s.skill == "pick")
     perturb = PerturbConfig(slip=0.5, bump=0.5)
-    first = replay_rounds(LoopJob(TASK, 0, 0.0, perturb, (plan[: pick + 1],), SHOW))
+    first = replay_rounds(
+        LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), (plan[: pick + 1],), SHOW)
+    )
     assert first.snapshot is not None and first.state is not None  # goals unmet: a replan
     rounds = (plan[: pick + 1], plan[pick + 1 :])
-    again = replay_rounds(LoopJob(TASK, 0, 0.0, perturb, rounds, SHOW))
-    resumed = replay_rounds(LoopJob(TASK, 0, 0.0, perturb, rounds, SHOW, first.snapshot))
+    again = replay_rounds(LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), rounds, SHOW))
+    resumed = replay_rounds(
+        LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), rounds, SHOW, first.snapshot)
+    )
     assert len(again.executions) == 2 and len(resumed.executions) == 1  # the last round only
     drop = {"wall_time_s"}
     assert resumed.executions[0].model_dump(exclude=drop) == again.executions[1].model_dump(
@@ -44,7 +48,7 @@ def test_a_replan_from_the_snapshot_equals_one_from_re_execution() -> None:
 
 def test_no_snapshot_where_no_replan_follows() -> None:
     plan = tuple(make_episode(TASK, 0).gt_plan)
-    last = replay_rounds(LoopJob(TASK, 0, 0.0, None, (plan[:1],), None))
+    last = replay_rounds(LoopJob(TASK, 0, ExecutorConfig(), (plan[:1],), None))
     assert not last.executions[-1].exec_success and last.snapshot is None
 
 

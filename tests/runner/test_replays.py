@@ -20,7 +20,6 @@ from rich.console import Console
 
 import vlm_bench
 from vlm_bench.episodes import make_episode
-from vlm_bench.runner import replays as replays_module
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.replays import (
@@ -36,7 +35,7 @@ from vlm_bench.runner.replays import (
 )
 from vlm_bench.storage import latest_records, read_records
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, FailureCode, ReplayOptions
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode, ReplayOptions
 from vlm_bench.types.plan import Direction, UavStep, plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig
@@ -64,9 +63,28 @@ def _jobs() -> list[ReplayJob]:
     jobs = []
     for task in FAST[:2]:
         ep = make_episode(task, 0)
-        jobs.append(ReplayJob(task, 0, 0.0, tuple(ep.gt_plan)))
-        jobs.append(ReplayJob(task, 0, 0.0, (UavStep(direction=Direction.DOWN, distance=0.2),)))
+        jobs.append(ReplayJob(task, 0, ExecutorConfig(), tuple(ep.gt_plan)))
+        down = (UavStep(direction=Direction.DOWN, distance=0.2),)
+        jobs.append(ReplayJob(task, 0, ExecutorConfig(), down))
     return jobs
+
+
+def test_jobs_carry_the_runs_executor_config_across_processes() -> None:
+    import pickle
+
+    from vlm_bench.runner.loop_jobs import LoopJob
+    from vlm_bench.types.closed_loop import PerturbConfig
+
+    config = RunConfig(model="m", tasks=(FAST[0],), uav_noise=2.0, perturb=PerturbConfig(bump=0.5))
+    executor = config.executor_config()
+    steps = (UavStep(direction=Direction.DOWN, distance=0.2),)
+    job = ReplayJob(FAST[0], 0, executor, steps)
+    loop_job = LoopJob(FAST[0], 0, executor, (steps,), None)
+    for sent in (job, loop_job):
+        back = pickle.loads(pickle.dumps(sent))
+        assert back == sent and back.key == sent.key and back.config == executor
+    calm = ReplayJob(FAST[0], 0, ExecutorConfig(), steps)
+    assert calm.key != job.key  # other settings: another replay
 
 
 def test_outcomes_do_not_depend_on_the_pool_or_its_workers() -> None:
@@ -213,7 +231,6 @@ def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
         raise ZeroDivisionError("executor bug")
 
     monkeypatch.setattr(executor, "execute_plan", broken)
-    monkeypatch.setattr(replays_module, "_EXECUTORS", {})  # no summary memoised earlier
     ep, record = _record(FAST[0])
     replays = Replays(InlinePool())
     replays.submit(ep, record)

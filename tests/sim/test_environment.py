@@ -20,7 +20,7 @@ from vlm_bench.sim.environment import (
     key_light_direction,
 )
 from vlm_bench.sim.framing import view_xyaxes
-from vlm_bench.sim.prop_kit import KEEP_OUT_RADIUS, PROP_PREFIX, Placer
+from vlm_bench.sim.prop_kit import KEEP_OUT_RADIUS, PROP_PREFIX, PropPlacer
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.types.episode import Lighting
 
@@ -168,7 +168,7 @@ def test_unknown_variant_falls_back_to_its_type() -> None:
 @pytest.mark.parametrize(("axis", "expected"), [("x", (0.0, 1.0, 0.0)), ("y", (-1.0, 0.0, 0.0))])
 def test_placer_turns_cylinders_onto_local_axes(axis: str, expected: tuple[float, ...]) -> None:
     spec = mujoco.MjSpec()
-    placer = Placer(spec, "prop/test/", (1.0, 2.0), yaw_deg=90.0)
+    placer = PropPlacer(spec, "prop/test/", (1.0, 2.0), yaw_deg=90.0)
     placer.cyl("rod", 0.05, 0.5, (1.0, 0.0, 0.3), "red", axis=axis)
     model = spec.compile()
     data = mujoco.MjData(model)

@@ -63,11 +63,11 @@ def _loop(seed: int = 0) -> tuple[Episode, SimLoop]:
 
 def _run_step(
     policy: Recorder, seed: int = 0, max_steps: int = 200
-) -> tuple[SimLoop, SkillFailure | str | None]:
+) -> tuple[SimLoop, SkillFailure | None]:
     """Run one policy-driven ARM step without images; returns the loop and the skill's result."""
     episode, loop = _loop(seed)
     skill = policy_skills(policy, max_steps=max_steps, views=())(loop)["pick"]
-    return loop, skill(loop, episode, PICK)
+    return loop, skill(episode, PICK)
 
 
 def test_action_array_round_trip_and_clipping() -> None:
@@ -173,7 +173,7 @@ def test_observation_carries_images_proprioception_and_the_step() -> None:
     policy = Recorder(lambda obs: None)
     skill = policy_skills(policy, views=("wrist", "uav"), render_size=16)(loop)["place"]
     step = ArmStep(object="yellow_basket", skill="place")
-    assert skill(loop, episode, step) is None
+    assert skill(episode, step) is None
     ((seen, obs),) = policy.calls
     assert seen == step and obs.step == step and obs.step_index == 0
     assert obs.step_text == "place yellow_basket"
@@ -225,14 +225,14 @@ def test_held_object_follows_the_grasp() -> None:
     assert grasped_object(loop, episode) is None
     refs = StepReferences(episode, loop.model)
     run_move(loop, refs, episode.uav_steps()[0], next_arm_step(episode.gt_plan, 0))
-    assert default_skills(loop)["pick"](loop, episode, PICK) is None
+    assert default_skills(loop)["pick"](episode, PICK) is None
     assert grasped_object(loop, episode) == "gray_cube"
     loop.held = None
     keep_closed = Recorder(
         lambda obs: VlaAction(joints=obs.proprio.joints, gripper=0.0, done=obs.step_index == 1)
     )
     skill = policy_skills(keep_closed, views=())(loop)["pick"]
-    assert skill(loop, episode, PICK) is None
+    assert skill(episode, PICK) is None
     assert loop.held == "gray_cube"
 
 

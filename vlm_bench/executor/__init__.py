@@ -16,40 +16,15 @@ The wing is laid out by concept, each layer importing only those before it:
 Learned low-level policies and the gymnasium environment live above, in :mod:`vlm_bench.vla`.
 """
 
-from vlm_bench.executor.goals import check_goal, check_goals
-from vlm_bench.executor.plan_replay import execute_plan, next_arm_step, run_move, target_ids
-from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop, SimulatorUnstable
+from vlm_bench.executor.plan_replay import execute_plan
+from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
 from vlm_bench.executor.skills.scripted_skills import default_skills
-from vlm_bench.executor.vla_metrics import vla_scores
-from vlm_bench.types.execution import (
-    ExecutionResult,
-    ExecutorConfig,
-    FailureCode,
-    FlightConfig,
-    SkillFailure,
-    StepOutcome,
-    StepStatus,
-)
+from vlm_bench.types.execution import ExecutionResult
 
 __all__ = [
-    "ArmSkill",
     "ExecutionResult",
-    "ExecutorConfig",
-    "FailureCode",
-    "FlightConfig",
     "SimLoop",
     "SimulatorUnstable",
-    "SkillFailure",
-    "StepOutcome",
-    "StepReferences",
-    "StepStatus",
-    "check_goal",
-    "check_goals",
     "default_skills",
     "execute_plan",
-    "next_arm_step",
-    "run_move",
-    "target_ids",
-    "vla_scores",
 ]

@@ -19,7 +19,6 @@ from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.executor.goals import check_goals, describe_goal
 from vlm_bench.executor.perturb import Perturber
 from vlm_bench.executor.replay_steps import (
-    PlanSteps,
     SkillFactory,
     StepRunner,
     episode_scene,
@@ -31,7 +30,6 @@ from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.executor.vla_metrics import vla_scores
 from vlm_bench.sim.scene import Scene
 from vlm_bench.types.base import FloatArray
-from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import (
     ExecutionResult,
@@ -40,6 +38,7 @@ from vlm_bench.types.execution import (
     SkillFailure,
     StepOutcome,
 )
+from vlm_bench.types.plan import PlanSteps
 
 
 def goal_failure(episode: Episode, goals: tuple[bool, ...]) -> SkillFailure:
@@ -57,7 +56,8 @@ class LiveEpisode:
         scene: A scene to run on instead of building one (it is modified).
         arm_skills: Makes the ARM skills for the loop (default: the scripted skills).
         observers: Called after every control step (e.g. a video recorder).
-        perturb: Perturbations to fire (None: none, and results list none).
+
+    The perturbations that fire are ``config.perturb`` (None: none, and results list none).
     """
 
     def __init__(
@@ -67,12 +67,12 @@ class LiveEpisode:
         scene: Scene | None = None,
         arm_skills: SkillFactory = default_skills,
         observers: Sequence[Callable[[SimLoop], None]] = (),
-        perturb: PerturbConfig | None = None,
     ) -> None:
         self.episode = episode
         self.config = config or ExecutorConfig()
         self.loop = SimLoop(scene or episode_scene(episode, self.config), self.config)
         self.loop.observers.extend(observers)
+        perturb = self.config.perturb
         self.perturber = Perturber(perturb, episode) if perturb is not None else None
         self.runner = StepRunner(episode, self.loop, arm_skills(self.loop), self.perturber)
         movable = [o.id for o in episode.objects if object_kind(o.kind).movable]

@@ -12,7 +12,6 @@ from collections.abc import Callable, Sequence
 
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.executor.replay_steps import (
-    PlanSteps,
     SkillFactory,
     StepRunner,
     episode_scene,
@@ -23,11 +22,9 @@ from vlm_bench.executor.replay_steps import (
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.sim.scene import Scene
-from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult, ExecutorConfig
-
-_Run = StepRunner  # the name tests of the step machinery know it by
+from vlm_bench.types.plan import PlanSteps
 
 __all__ = [
     "PlanSteps",
@@ -48,24 +45,22 @@ def execute_plan(
     scene: Scene | None = None,
     arm_skills: SkillFactory = default_skills,
     observers: Sequence[Callable[[SimLoop], None]] = (),
-    perturb: PerturbConfig | None = None,
 ) -> ExecutionResult:
     """Replay ``plan`` on ``episode``'s scene (built fresh unless ``scene`` is given).
 
     Args:
         episode: The episode (scene, goals, GT used for non-target objects).
         plan: Validated plan steps.
-        config: Executor settings (default: the benchmark's).
+        config: Executor settings (default: the benchmark's), gusts and perturbations included.
         scene: A scene to run on instead of building one (it is modified).
         arm_skills: Makes the ARM skills for the loop (default: the scripted skills); a skill
             missing there fails its step with a reason. Hierarchical pipelines pass
             policy-driven skills here.
         observers: Called after every control step (e.g. a video recorder).
-        perturb: Seeded perturbations to fire (``--perturb``); None = none.
 
     Execution stops at the first failed step; later steps are skipped. The result is always
     returned (simulator blow-ups and a spent simulated-time budget,
     :meth:`~vlm_bench.types.execution.ExecutorConfig.sim_budget_s`, become failed steps).
     """
-    live = LiveEpisode(episode, config, scene, arm_skills, observers, perturb)
+    live = LiveEpisode(episode, config, scene, arm_skills, observers)
     return live.execute(plan)

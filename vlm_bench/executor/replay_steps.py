@@ -7,7 +7,7 @@ in order and stops at the first failure.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -17,7 +17,7 @@ from vlm_bench.executor.motion.flight_clearance import FlightClearance
 from vlm_bench.executor.motion.uav_moves import fly_to, move_target, stow_arm
 from vlm_bench.executor.perturb import Perturber
 from vlm_bench.executor.references import StepReferences
-from vlm_bench.executor.sim_loop import ArmSkill, SimBudgetSpent, SimLoop, SimulatorUnstable
+from vlm_bench.executor.sim_loop import SimBudgetSpent, SimLoop, SimulatorUnstable, Skill
 from vlm_bench.sim.constants import ARM_BASE_BODY
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene, build_scene
@@ -30,10 +30,9 @@ from vlm_bench.types.execution import (
     SkillFailure,
     StepOutcome,
 )
-from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.plan import ArmStep, PlanSteps, UavStep
 
-PlanSteps = Sequence[UavStep | ArmStep]
-SkillFactory = Callable[[SimLoop], dict[str, ArmSkill]]
+SkillFactory = Callable[[SimLoop], dict[str, Skill]]
 
 
 def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
@@ -76,7 +75,9 @@ def episode_scene(episode: Episode, config: ExecutorConfig) -> Scene:
     """The episode's scene with the configured gusts on the UAV."""
     gust = (
         GustConfig(
-            force_std=config.uav_noise, torque_std=0.05 * config.uav_noise, seed=config.noise_seed
+            force_std=config.uav_noise,
+            torque_std=0.05 * config.uav_noise,
+            seed=config.gust_seed(episode.task_id, episode.seed),
         )
         if config.uav_noise > 0
         else None
@@ -99,13 +100,6 @@ def _agent(step: UavStep | ArmStep) -> Literal["UAV", "ARM"]:
     return "UAV" if isinstance(step, UavStep) else "ARM"
 
 
-def _as_failure(result: SkillFailure | str | None) -> SkillFailure | None:
-    """A skill's result as a typed failure (a bare string: :attr:`FailureCode.SKILL_FAILED`)."""
-    if result is None or isinstance(result, SkillFailure):
-        return result
-    return SkillFailure(FailureCode.SKILL_FAILED, result)
-
-
 class StepRunner:
     """Runs plan steps on one loop: references, skills, and the perturbations (if any) that
     fire before ARM steps and during flights."""
@@ -114,7 +108,7 @@ class StepRunner:
         self,
         episode: Episode,
         loop: SimLoop,
-        skills: dict[str, ArmSkill],
+        skills: dict[str, Skill],
         perturber: Perturber | None = None,
     ) -> None:
         self.episode = episode
@@ -145,7 +139,7 @@ class StepRunner:
         try:
             skill = self.skills.get(step.skill)
             if skill is not None:
-                failure = _as_failure(skill(loop, self.episode, step))
+                failure = skill(self.episode, step)
             else:
                 failure = SkillFailure(
                     FailureCode.UNKNOWN_SKILL,

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Protocol
 
 import mujoco
 import numpy as np
@@ -203,6 +204,12 @@ class _Watch:
             self.tilt_deg = loop.tcp_tilt_deg()
 
 
-ArmSkill = Callable[[SimLoop, Episode, ArmStep], SkillFailure | str | None]
-"""An ARM skill: runs on the loop and returns ``None`` on success, else its failure (a bare
-string from a user's skill counts as :attr:`FailureCode.SKILL_FAILED`)."""
+class Skill(Protocol):
+    """An ARM skill bound to one loop (docs/design.md#arm-skills): runs ``step`` of
+    ``episode`` on its loop and returns ``None`` on success, else its typed failure.
+
+    Every scripted family (:mod:`vlm_bench.executor.skills`) and the policy-driven skills of
+    :mod:`vlm_bench.vla.hierarchical` implement it; a factory binds them to a loop.
+    """
+
+    def __call__(self, episode: Episode, step: ArmStep, /) -> SkillFailure | None: ...

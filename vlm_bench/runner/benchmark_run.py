@@ -139,7 +139,7 @@ def _replays(
     pool = make_pool(options)
     if config.loop == "closed":
         return LoopReplays(pool, config, on_change, options.stall_s)
-    return Replays(pool, config.uav_noise, on_change, options.stall_s, config.perturb)
+    return Replays(pool, config.executor_config(), on_change, options.stall_s)
 
 
 def run_benchmark(

@@ -15,10 +15,9 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 
-from vlm_bench.runner.plan_executor import crash_summary, executor_config
-from vlm_bench.types.closed_loop import PerturbConfig
+from vlm_bench.runner.plan_executor import crash_summary
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary
+from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig
 from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
 
 Steps = tuple[UavStep | ArmStep, ...]
@@ -39,8 +38,8 @@ class LoopJob:
 
     task_id: str
     seed: int
-    uav_noise: float
-    perturb: PerturbConfig | None
+    config: ExecutorConfig
+    """Gusts and perturbations: the run's, the same for every job."""
     rounds: tuple[Steps, ...]
     state: StateRequest | None
     """Describe the state after the last round when it fails (None: the episode ends)."""
@@ -49,10 +48,9 @@ class LoopJob:
 
     @property
     def key(self) -> str:
-        """Identity of the job: episode, noise, perturbations and every round's plan."""
+        """Identity of the job: episode, executor settings and every round's plan."""
         plans = json.dumps([plan_to_json(list(r)) for r in self.rounds], sort_keys=True)
-        perturb = self.perturb.model_dump_json() if self.perturb is not None else ""
-        return f"{self.task_id}/{self.seed}/{self.uav_noise!r}/{perturb}:{plans}"
+        return f"{self.task_id}/{self.seed}/{self.config.model_dump_json()}:{plans}"
 
 
 @dataclass(frozen=True)
@@ -96,7 +94,7 @@ def replay_rounds(job: LoopJob) -> RoundsReplayed:
         live = thaw(job.snapshot, build_spec(episode))
         rounds = rounds[-1:]
     else:
-        live = LiveEpisode(episode, executor_config(episode, job.uav_noise), perturb=job.perturb)
+        live = LiveEpisode(episode, job.config)
     executions: list[ExecutionSummary] = []
     for steps in rounds:
         try:

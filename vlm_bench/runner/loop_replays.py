@@ -12,10 +12,9 @@ an answer holds no plan; its record is round 0's with ``rounds`` and ``loop`` ad
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field
+from functools import partial
 
 from vlm_bench.backends.builtin import round_request_id
 from vlm_bench.parsing import parse_plan, plan_json_schema
@@ -29,15 +28,10 @@ from vlm_bench.runner.loop_rounds import (
     loop_outcome,
     ran_steps,
 )
+from vlm_bench.runner.pending_jobs import PendingJobs
 from vlm_bench.runner.plan_executor import record_plan
-from vlm_bench.runner.replays import (
-    MAX_ATTEMPTS,
-    WORKER_DIED,
-    ReplayPool,
-    ReplayStats,
-    broken_future,
-    lost_record,
-)
+from vlm_bench.runner.replay_pools import ReplayPool
+from vlm_bench.runner.replays import ReplayStats, lost_record
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
@@ -95,8 +89,9 @@ class LoopReplays:
         stall_s: Longest time with rounds executing and none finishing (s); default:
             :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
 
-    An execution the infrastructure loses (its worker died :data:`MAX_ATTEMPTS` times, Ray gave
-    up, or no execution finished for ``stall_s``) ends its episode as an ``error`` record
+    An execution the infrastructure loses (its worker died
+    :data:`~vlm_bench.runner.pending_jobs.MAX_ATTEMPTS` times, Ray gave up, or no execution
+    finished for ``stall_s``) ends its episode as an ``error`` record
     (:func:`~vlm_bench.runner.replays.lost_record`), which a resume runs again from the cached
     answers; an exception of the executor stays a recorded ``executor_crash``.
     """
@@ -110,15 +105,21 @@ class LoopReplays:
     ) -> None:
         self.pool = pool
         self.config = config
+        self.executor = config.executor_config()
+        """Every round's executor settings (built once)."""
         self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
-        self._last_progress = time.monotonic()
         self.stats = ReplayStats()
         self._notify = on_change
         self._live: dict[str, _Live] = {}
-        self._running: dict[str, Future[RoundsReplayed]] = {}
-        self._futures: dict[str, Future[RoundsReplayed]] = {}
-        self._jobs: dict[str, tuple[LoopJob, int]] = {}
-        """The job of each running episode and the pools it has broken (a worker died)."""
+        self._running: PendingJobs[str, LoopJob, RoundsReplayed] = PendingJobs(
+            pool,
+            partial(pool.submit_call, replay_rounds),
+            lambda job: job.key,
+            self.stall_s,
+            "execution",
+            keep_done=False,  # results hold snapshots and views: held only while needed
+        )
+        """The job of each episode executing, by episode key."""
         self._asks: list[Ask] = []
 
     @property
@@ -205,25 +206,13 @@ class LoopReplays:
     def collect(self, block: bool = False, timeout: float | None = None) -> list[EpisodeRecord]:
         """Records of episodes that ended (``block``: wait for an execution to finish, or
         ``timeout`` seconds)."""
-        running = self._running
-        if block and running and not any(f.done() for f in running.values()):
-            wait(set(running.values()), timeout, return_when=FIRST_COMPLETED)
-        self._resend_broken()
+        if block:
+            self._running.wait(timeout)
         out: list[EpisodeRecord] = []
-        now = time.monotonic()
-        if any(f.done() for f in running.values()):
-            self._last_progress = now
-        elif running and now - self._last_progress > self.stall_s:
-            self._abandon()
-        for key, future in list(running.items()):
-            if not future.done():
-                continue
-            del running[key]
-            job, _ = self._jobs.pop(key)
-            if future not in running.values():  # results (snapshots) are held while needed
-                self._futures.pop(job.key, None)
+        for done in self._running.finished():
+            key = done.owner
             try:
-                replayed = future.result()
+                replayed = done.future.result()
             # The executor's own exceptions come back as crash summaries (replay_rounds): what
             # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
             except Exception as exc:  # noqa: BLE001  (a replay failure must not kill a run)
@@ -238,7 +227,7 @@ class LoopReplays:
 
     def drain(self) -> Iterator[EpisodeRecord]:
         """Records as episodes end, while none waits for a replan's answer."""
-        while self._running:
+        while self._running.items:
             yield from self.collect(block=True)
 
     def close(self, cancel: bool = False) -> None:
@@ -253,29 +242,11 @@ class LoopReplays:
             views = c.views if c.images else ()
             state = StateRequest(tuple(views), c.resolution, c.labels)
         ep = live.episode
-        if not self._running:  # the stall clock runs while executions are in flight
-            self._last_progress = time.monotonic()
-        job = LoopJob(
-            ep.task_id, ep.seed, c.uav_noise, c.perturb, tuple(live.plans), state, live.snapshot
-        )
+        job = LoopJob(ep.task_id, ep.seed, self.executor, tuple(live.plans), state, live.snapshot)
         live.snapshot = None  # the job holds it while it runs
-        future = self._futures.get(job.key)
-        if future is None:
-            future = self._futures[job.key] = self.pool.submit_call(replay_rounds, job)
+        if self._running.add(key, job):
             self.stats.executed += 1
-        self._running[key] = future
-        self._jobs[key] = (job, 1)
         self._changed()
-
-    def _abandon(self) -> None:
-        """No execution finished for :attr:`stall_s`: give up those in flight (as lost)."""
-        self.pool.abandon()
-        reason = f"no execution finished for {self.stall_s:g} s (a hung worker or a lost node)"
-        for key in self._running:
-            stalled: Future[RoundsReplayed] = Future()
-            stalled.set_exception(TimeoutError(reason))
-            self._running[key] = stalled
-        self._futures.clear()
 
     def _lost(self, key: str, reason: str) -> EpisodeRecord:
         """The episode's record as one a resume runs again (its execution was lost)."""
@@ -283,31 +254,6 @@ class LoopReplays:
         live = self._live.pop(key)
         self._changed()
         return lost_record(live.first, reason)
-
-    def _resend_broken(self) -> None:
-        """A worker process died, which breaks its whole pool: start new workers and send the
-        jobs that were in flight again (one that has broken :data:`MAX_ATTEMPTS` pools ends
-        its episode as a crash)."""
-        broken = [k for k, f in self._running.items() if broken_future(f)]
-        while broken:
-            self._resend(broken)
-            broken = [k for k in broken if broken_future(self._running[k])]
-
-    def _resend(self, broken: list[str]) -> None:
-        self.pool.restart()
-        renewed: dict[str, Future[RoundsReplayed]] = {}
-        for key in broken:
-            job, attempts = self._jobs[key]
-            if attempts >= MAX_ATTEMPTS:
-                dead: Future[RoundsReplayed] = Future()
-                dead.set_exception(RuntimeError(WORKER_DIED))
-                self._running[key] = dead
-                continue
-            if job.key not in renewed:
-                renewed[job.key] = self.pool.submit_call(replay_rounds, job)
-                self._futures[job.key] = renewed[job.key]
-            self._running[key] = renewed[job.key]
-            self._jobs[key] = (job, attempts + 1)
 
     def _advance(self, key: str, replayed: RoundsReplayed) -> EpisodeRecord | None:
         live = self._live[key]
@@ -377,6 +323,7 @@ class LoopReplays:
 
     def _changed(self) -> None:
         if self._notify is not None:
-            running = min(self.pool.workers, len(self._running))
+            in_flight = len(self._running.items)
+            running = min(self.pool.workers, in_flight)
             s = self.stats
-            self._notify(s.submitted, s.finished, running, len(self._running) - running)
+            self._notify(s.submitted, s.finished, running, in_flight - running)

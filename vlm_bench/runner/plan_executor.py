@@ -10,15 +10,12 @@ reason. The simulator is imported only when a plan is executed.
 
 from __future__ import annotations
 
-import hashlib
-import json
 import time
 from typing import TYPE_CHECKING
 
-from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode
-from vlm_bench.types.plan import ArmStep, UavStep, plan_to_json
+from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.records import EpisodeRecord
 
 if TYPE_CHECKING:
@@ -26,20 +23,6 @@ if TYPE_CHECKING:
 
 CRASH_PREFIX = "executor raised"
 """Start of the failure reason of an execution that ended in an exception."""
-
-
-def episode_noise_seed(task_id: str, seed: int) -> int:
-    """Seed of an episode's gusts: stable across runs and machines, and shared by both
-    instruction variants (so their executions face the same wind)."""
-    digest = hashlib.sha256(f"uav-noise|{task_id}|{seed}".encode()).digest()
-    return int.from_bytes(digest[:4], "big")
-
-
-def executor_config(episode: Episode, uav_noise: float) -> ExecutorConfig:
-    """The benchmark's executor settings with ``uav_noise`` and the episode's gust seed."""
-    return ExecutorConfig(
-        uav_noise=uav_noise, noise_seed=episode_noise_seed(episode.task_id, episode.seed)
-    )
 
 
 def record_plan(record: EpisodeRecord) -> list[UavStep | ArmStep] | None:
@@ -64,24 +47,17 @@ def crash_summary(exc: Exception, wall_time_s: float) -> ExecutionSummary:
 
 
 class PlanExecutor:
-    """Executes records' plans; compiles each episode's scene once and replays on copies.
+    """Executes plans with one :class:`ExecutorConfig`; compiles each episode's scene once
+    and executes on copies (a worker keeps one per config: :func:`.replays.replay`).
 
-    Args:
-        uav_noise: Gust force std on the UAV (N); 0 = calm.
-        perturb: Seeded perturbations (None: none).
+    Identical plans are not de-duplicated here: the runner sends each (episode, plan) once.
     """
 
-    def __init__(self, uav_noise: float = 0.0, perturb: PerturbConfig | None = None) -> None:
-        self.uav_noise = uav_noise
-        self.perturb = perturb
+    def __init__(self, config: ExecutorConfig | None = None) -> None:
+        self.config = config or ExecutorConfig()
         self.executed = 0
         """Plans executed."""
         self._template: tuple[tuple[str, int], Scene] | None = None
-        self._memo: dict[str, ExecutionSummary] = {}
-        """Summaries of the current episode's plans: the simulation is deterministic, so the
-        same plan on the same scene (e.g. both instruction variants) is executed once."""
-        self.reused = 0
-        """Executions answered from the memo."""
 
     def scene(self, episode: Episode) -> Scene:
         """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
@@ -89,36 +65,22 @@ class PlanExecutor:
 
         key = (episode.task_id, episode.seed)
         if self._template is None or self._template[0] != key:
-            self._template = (key, episode_scene(episode, executor_config(episode, self.uav_noise)))
-            self._memo.clear()
+            self._template = (key, episode_scene(episode, self.config))
         return self._template[1].copy()
-
-    def summary(self, episode: Episode, steps: list[UavStep | ArmStep]) -> ExecutionSummary:
-        """Execute ``steps`` on the episode; an exception becomes a failed summary."""
-        return self.run(episode, steps)[0]
 
     def run(
         self, episode: Episode, steps: list[UavStep | ArmStep]
     ) -> tuple[ExecutionSummary, str | None]:
+        """Execute ``steps`` on the episode: the summary and, where the executor raised, the
+        message (an exception becomes a failed summary)."""
         from vlm_bench import executor
 
-        memo_key = f"{episode.task_id}/{episode.seed}:" + json.dumps(plan_to_json(steps))
-        if memo_key in self._memo:
-            self.reused += 1
-            return self._memo[memo_key], None
         start = time.perf_counter()
         self.executed += 1
         try:
-            result = executor.execute_plan(
-                episode,
-                steps,
-                executor_config(episode, self.uav_noise),
-                self.scene(episode),
-                perturb=self.perturb,
-            )
+            result = executor.execute_plan(episode, steps, self.config, self.scene(episode))
             summary = ExecutionSummary.of(result)  # rejects a non-finite number
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
             summary = crash_summary(exc, time.perf_counter() - start)
             return summary, summary.failure_reason
-        self._memo[memo_key] = summary
         return summary, None

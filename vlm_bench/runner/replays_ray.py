@@ -16,7 +16,8 @@ from concurrent.futures import Future
 from typing import Any
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.runner.replays import J, R, Replayed, ReplayJob, replay
+from vlm_bench.runner.replay_jobs import Replayed, ReplayJob, replay
+from vlm_bench.runner.replay_pools import J, R
 
 MAX_RETRIES = 2
 """Times Ray runs a replay again after its worker process died."""

@@ -89,12 +89,7 @@ def rescore_run(
         done: dict[str, EpisodeRecord] = {}
         options = replay or ReplayOptions()
         replays = (
-            Replays(
-                make_pool(options),
-                config.uav_noise,
-                stall_s=options.stall_s,
-                perturb=config.perturb,
-            )
+            Replays(make_pool(options), config.executor_config(), stall_s=options.stall_s)
             if config.execute
             else None
         )

@@ -74,7 +74,7 @@ class RunViews:
         config = self.config
         state = StateRequest(VIEWS, config.resolution, config.labels)
         rounds = tuple(plans[:round_index])
-        job = LoopJob(record.task_id, record.seed, config.uav_noise, config.perturb, rounds, state)
+        job = LoopJob(record.task_id, record.seed, config.executor_config(), rounds, state)
         shown = replay_rounds(job).state
         return dict(shown.images) if shown is not None else {}
 

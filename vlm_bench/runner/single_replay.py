@@ -6,7 +6,6 @@ reproduces the run's execution. The simulator is imported only when something is
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,13 +13,10 @@ from pathlib import Path
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.parsing import parse_plan
-from vlm_bench.runner.plan_executor import PlanExecutor, executor_config
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionResult
-from vlm_bench.types.plan import ArmStep, UavStep
+from vlm_bench.types.execution import ExecutionResult, ExecutorConfig
+from vlm_bench.types.plan import ArmStep, PlanSteps, UavStep
 from vlm_bench.types.task import InstructionVariant
-
-PlanSteps = Sequence[UavStep | ArmStep]
 
 
 @dataclass(frozen=True)
@@ -105,8 +101,8 @@ def replay_plan(
         UnknownNameError: Unknown task or camera. ConfigError: Invalid plan or options.
         MissingExtraError: MP4 without the ``video`` extra.
     """
-    from vlm_bench.executor import execute_plan
     from vlm_bench.executor.goals import describe_goal
+    from vlm_bench.executor.plan_replay import episode_scene, execute_plan
     from vlm_bench.executor.video import VideoRecorder
 
     if uav_noise < 0:
@@ -118,7 +114,8 @@ def replay_plan(
         steps = plan_from_text(plan, episode, source)
     else:
         steps = list(plan)
-    scene = PlanExecutor(uav_noise).scene(episode)
+    config = ExecutorConfig(uav_noise=uav_noise)
+    scene = episode_scene(episode, config)
     with ExitStack() as stack:
         recorder = None
         if video is not None:
@@ -131,7 +128,7 @@ def replay_plan(
         result = execute_plan(
             episode,
             steps,
-            executor_config(episode, uav_noise),
+            config,
             scene,
             observers=(recorder,) if recorder is not None else (),
         )

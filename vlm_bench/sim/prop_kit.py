@@ -1,12 +1,12 @@
 """The kit decorative props are built with: names, the keep-out rule, colours, the local frame
-(:class:`Placer`), wall fixtures (windows, doors, frames). The props of each environment are in
+(:class:`PropPlacer`), wall fixtures (windows, doors, frames). The props of each environment are in
 :mod:`~vlm_bench.sim.props_indoor` and :mod:`~vlm_bench.sim.props_outdoor`; :mod:`.props` picks
 them.
 
 Props are visual-only geoms in the world body named ``prop/<what>/<part>``; every one stays farther
 than :data:`KEEP_OUT_RADIUS` horizontally from the origin (against the walls indoors), so they never
 block cameras looking at the work area. Composite props are laid out in a local frame
-(:class:`Placer`); indoors that frame sits on a wall: x along the wall, y into the room, z up.
+(:class:`PropPlacer`); indoors that frame sits on a wall: x along the wall, y into the room, z up.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ SCREEN: RGBA = (0.03, 0.03, 0.05, 1.0)
 CARDBOARD: RGBA = (0.72, 0.55, 0.35, 1.0)
 
 
-class Placer:
+class PropPlacer:
     """Adds visual-only primitives in a local frame (origin + yaw) under one name prefix."""
 
     def __init__(
@@ -103,7 +103,7 @@ def prop_material(spec: mujoco.MjSpec, rgba: Colour, emission: float = 0.0) -> s
 
 def on_wall(
     spec: mujoco.MjSpec, name: str, env: EnvironmentSpec, side: str, along: float = 0.0
-) -> Placer:
+) -> PropPlacer:
     """A placer on the inside of a wall: x along the wall, y into the room, z up."""
     hs = env.room_half_size
     origin, yaw = {
@@ -112,7 +112,7 @@ def on_wall(
         "east": ((hs, along), 90.0),
         "west": ((-hs, -along), -90.0),
     }[side]
-    return Placer(spec, f"{PROP_PREFIX}{name}/", origin, yaw)
+    return PropPlacer(spec, f"{PROP_PREFIX}{name}/", origin, yaw)
 
 
 def add_window(
@@ -130,7 +130,7 @@ def add_window(
         z: Height of the window centre (m).
     """
     w, h = size[0] / 2, size[1] / 2
-    p = Placer(spec, f"{name}/", at, yaw_deg)
+    p = PropPlacer(spec, f"{name}/", at, yaw_deg)
     inward = -1.0 if (at[0] * math.cos(p.yaw) + at[1] * math.sin(p.yaw)) > 0 else 1.0
     d = 0.012 * inward
     p.box("pane", (0.01, w, h), (d, 0.0, z), GLASS, emission=0.5)  # daylight outside
@@ -142,13 +142,13 @@ def add_window(
     p.box("mullion", (0.02, 0.02, h), (2 * d, 0.0, z), white)
 
 
-def add_door(p: Placer, along: float) -> None:
+def add_door(p: PropPlacer, along: float) -> None:
     p.box("door", (0.45, 0.025, 1.02), (along, 0.025, 1.02), "dark_wood")
     p.ball("door_knob", 0.035, (along + 0.35, 0.08, 1.0), "metal")
 
 
 def add_frame(
-    p: Placer, name: str, along: float, z: float, half: tuple[float, float], art: Colour
+    p: PropPlacer, name: str, along: float, z: float, half: tuple[float, float], art: Colour
 ) -> None:
     p.box(f"{name}_frame", (half[0] + 0.04, 0.015, half[1] + 0.04), (along, 0.015, z), "dark_wood")
     p.box(f"{name}_art", (half[0], 0.02, half[1]), (along, 0.02, z), art)

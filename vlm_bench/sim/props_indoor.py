@@ -11,7 +11,7 @@ from vlm_bench.sim.prop_kit import (
     PROP_PREFIX,
     SCREEN,
     Colour,
-    Placer,
+    PropPlacer,
     add_door,
     add_frame,
     on_wall,
@@ -126,7 +126,7 @@ def living_room(spec: mujoco.MjSpec, env: EnvironmentSpec) -> None:
     add_frame(s, "pic_c", 2.1, 1.5, (0.6, 0.4), "green")
     add_door(s, -2.6)
     hs = env.room_half_size
-    rug = Placer(spec, f"{PROP_PREFIX}rug/", (-(hs - 0.9), -(hs - 0.9)), -45.0)
+    rug = PropPlacer(spec, f"{PROP_PREFIX}rug/", (-(hs - 0.9), -(hs - 0.9)), -45.0)
     rug.box("outer", (0.7, 0.5, 0.004), (0.0, 0.0, 0.004), "red")
     rug.box("inner", (0.55, 0.36, 0.004), (0.0, 0.0, 0.006), "cream")
     rug.cyl("pouf", 0.25, 0.2, (0.0, 0.0, 0.2), "purple")
@@ -202,13 +202,13 @@ def workshop(spec: mujoco.MjSpec, env: EnvironmentSpec) -> None:
     ext.box("sign", (0.15, 0.01, 0.15), (0.0, 0.01, 1.15), "red")
     hs = env.room_half_size
     for i, (x, y) in enumerate(((hs - 0.45, -(hs - 0.45)), (hs - 1.1, -(hs - 0.45)))):
-        drum = Placer(spec, f"{PROP_PREFIX}drum{i}/", (x, y))
+        drum = PropPlacer(spec, f"{PROP_PREFIX}drum{i}/", (x, y))
         drum.cyl("body", 0.29, 0.44, (0.0, 0.0, 0.44), "blue")
         drum.cyl("lid", 0.27, 0.01, (0.0, 0.0, 0.885), "metal")
     _floor_lines(spec, env, 1.1)
 
 
-def _rack(p: Placer, bays: int) -> None:
+def _rack(p: PropPlacer, bays: int) -> None:
     """Pallet racking: blue uprights, orange beams, three levels of pallets and loads."""
     length = 2.4 * bays
     for k in range(bays + 1):
@@ -255,7 +255,7 @@ def warehouse(spec: mujoco.MjSpec, env: EnvironmentSpec) -> None:
         dock.cyl(f"bollard{i}", 0.09, 0.5, (x, 0.7, 0.5), "yellow")
     hs = env.room_half_size
     for i, c in enumerate(("red", "red", "blue")):
-        drum = Placer(spec, f"{PROP_PREFIX}drum{i}/", (hs - 0.45 - 0.62 * i, -(hs - 0.45)))
+        drum = PropPlacer(spec, f"{PROP_PREFIX}drum{i}/", (hs - 0.45 - 0.62 * i, -(hs - 0.45)))
         drum.cyl("body", 0.29, 0.44, (0.0, 0.0, 0.44), c)
         drum.cyl("lid", 0.27, 0.01, (0.0, 0.0, 0.885), "metal")
     _floor_lines(spec, env, 1.55)

@@ -7,6 +7,7 @@ These models cross the executor → runner → storage boundary (a record carrie
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, Literal
@@ -14,7 +15,7 @@ from typing import Any, Literal
 from pydantic import Field, SerializerFunctionWrapHandler, model_serializer
 
 from vlm_bench.types.base import FiniteFrozen, Frozen, omit_none
-from vlm_bench.types.closed_loop import PerturbEvent
+from vlm_bench.types.closed_loop import PerturbConfig, PerturbEvent
 from vlm_bench.types.episode import UavPose
 
 StepStatus = Literal["ok", "failed", "skipped"]
@@ -125,8 +126,20 @@ class VlaMetricConfig(Frozen):
     w_task: float = Field(default=0.40, ge=0, description="Weight of S_task.")
 
 
+def episode_noise_seed(task_id: str, seed: int) -> int:
+    """Seed of an episode's gusts: stable across runs and machines, and shared by both
+    instruction variants (so their executions face the same wind)."""
+    digest = hashlib.sha256(f"uav-noise|{task_id}|{seed}".encode()).digest()
+    return int.from_bytes(digest[:4], "big")
+
+
 class ExecutorConfig(Frozen):
-    """Executor settings; the defaults are the benchmark's."""
+    """Executor settings; the defaults are the benchmark's.
+
+    A run builds one from its config (:meth:`RunConfig.executor_config
+    <vlm_bench.types.run.RunConfig.executor_config>`) and every job it sends to a worker
+    carries it; it holds no per-episode value (the gust seed defaults to the episode's).
+    """
 
     flight: FlightConfig = Field(default_factory=FlightConfig)
     metrics: VlaMetricConfig = Field(default_factory=VlaMetricConfig)
@@ -141,13 +154,23 @@ class ExecutorConfig(Frozen):
         ge=0,
         description="Gust force std on the UAV (N); 0 = calm (the paper's UAV Disturb.).",
     )
-    noise_seed: int = Field(default=0, description="Seed of the gust process.")
+    noise_seed: int | None = Field(
+        default=None,
+        description="Seed of the gust process; None: the episode's (episode_noise_seed).",
+    )
+    perturb: PerturbConfig | None = Field(
+        default=None, description="Seeded perturbations to fire (``--perturb``); None: none."
+    )
     budget_base_s: float = Field(
         default=60.0, gt=0, description="Simulated time every replay may use (s)."
     )
     budget_per_step_s: float = Field(
         default=40.0, ge=0, description="Simulated time each plan step adds to the budget (s)."
     )
+
+    def gust_seed(self, task_id: str, seed: int) -> int:
+        """The gust seed of episode ``task_id``/``seed``: :attr:`noise_seed` where set."""
+        return episode_noise_seed(task_id, seed) if self.noise_seed is None else self.noise_seed
 
     def sim_budget_s(self, n_steps: int) -> float:
         """The simulated time a replay of ``n_steps`` steps may use before settling (s).

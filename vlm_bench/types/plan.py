@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from enum import StrEnum
 from typing import Annotated, Any, Literal
 
@@ -67,6 +68,9 @@ class ArmStep(Frozen):
 
 
 PlanStep = Annotated[UavStep | ArmStep, Field(discriminator="tasktype")]
+
+PlanSteps = Sequence[UavStep | ArmStep]
+"""A plan's validated steps, in order (what the executor takes)."""
 
 
 def plan_to_json(

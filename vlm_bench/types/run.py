@@ -39,6 +39,7 @@ from vlm_bench.errors import option_error
 from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.benchmark_version import BENCHMARK_VERSION, FIRST_VERSION
 from vlm_bench.types.closed_loop import HistoryMode, LoopConfig, LoopMode, PerturbConfig
+from vlm_bench.types.execution import ExecutorConfig
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
 from vlm_bench.types.scores import ScoringConfig
@@ -205,6 +206,10 @@ class RunConfig(FiniteFrozen):
     def loop_config(self) -> LoopConfig:
         """The closed loop's settings."""
         return LoopConfig(max_rounds=self.max_rounds, step_budget=self.step_budget)
+
+    def executor_config(self) -> ExecutorConfig:
+        """The executor's settings of every execution of the run (gusts, perturbations)."""
+        return ExecutorConfig(uav_noise=self.uav_noise, perturb=self.perturb)
 
     def prompt_config(self, variant: InstructionVariant) -> PromptConfig:
         """The prompt options of one instruction variant."""

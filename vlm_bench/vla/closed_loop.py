@@ -19,7 +19,7 @@ from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.executor.live_state import episode_now
 from vlm_bench.executor.replay_steps import SkillFactory
 from vlm_bench.executor.skills.scripted_skills import default_skills
-from vlm_bench.types.closed_loop import ExecutedStep, Feedback, PerturbConfig
+from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult, ExecutorConfig
 from vlm_bench.types.plan import ArmStep, UavStep
@@ -73,10 +73,10 @@ def run_closed_loop(
     arm_skills: SkillFactory = default_skills,
     max_rounds: int = 3,
     config: ExecutorConfig | None = None,
-    perturb: PerturbConfig | None = None,
 ) -> ClosedLoopResult:
-    """Plan, execute and replan up to ``max_rounds`` times in one simulation (module doc)."""
-    live = LiveEpisode(episode, config, arm_skills=arm_skills, perturb=perturb)
+    """Plan, execute and replan up to ``max_rounds`` times in one simulation (module doc);
+    ``config`` holds the gusts and perturbations (default: the benchmark's, none)."""
+    live = LiveEpisode(episode, config, arm_skills=arm_skills)
     out = ClosedLoopResult()
     ran: list[ExecutedStep] = []
     feedback: Feedback | None = None

@@ -26,7 +26,7 @@ from vlm_bench.catalog.skills import arm_skill_names
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor.plan_replay import SkillFactory
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.executor.sim_loop import SimLoop, Skill
 from vlm_bench.sim.constants import CAMERAS, CONTROL_DT, LEFT_FINGER_BODY, RIGHT_FINGER_BODY
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import SnapshotRenderer
@@ -88,17 +88,20 @@ class _PolicyStep:
 
     def __init__(
         self,
+        loop: SimLoop,
         policy: Policy,
         max_steps: int,
         observer: ObservationRenderer,
         variant: InstructionVariant,
     ) -> None:
+        self.loop = loop
         self.policy = policy
         self.max_steps = max_steps
         self.observer = observer
         self.variant = variant
 
-    def __call__(self, loop: SimLoop, episode: Episode, step: ArmStep) -> SkillFailure | None:
+    def __call__(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
+        loop = self.loop
         instruction = episode.instruction(self.variant)
         try:
             for k in range(self.max_steps):
@@ -153,8 +156,8 @@ def policy_skills(
     config = ObservationConfig(views=tuple(views), size=render_size, shadows=shadows)
     names = tuple(arm_skill_names() if skills is None else skills)
 
-    def factory(loop: SimLoop) -> dict[str, ArmSkill]:
-        run = _PolicyStep(policy, max_steps, ObservationRenderer(config, renderer), variant)
+    def factory(loop: SimLoop) -> dict[str, Skill]:
+        run = _PolicyStep(loop, policy, max_steps, ObservationRenderer(config, renderer), variant)
         return dict.fromkeys(names, run)
 
     return factory

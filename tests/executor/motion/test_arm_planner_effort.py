@@ -14,7 +14,7 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.motion.arm_core import ArmCore
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionChecker, CollisionQuery
-from vlm_bench.executor.plan_replay import _Run, execute_plan
+from vlm_bench.executor.plan_replay import StepRunner, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
@@ -76,7 +76,7 @@ def test_a_contact_that_lasts_is_reported_again_after_each_take() -> None:
     ``take_collisions`` after a control step reports it, not only the first."""
     episode = make_episode("standard_pick_place", 0)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for index in range(2):  # fly there, pick
         assert run.step(index, episode.gt_plan[index], episode.gt_plan).status == "ok"
     held = loop.held

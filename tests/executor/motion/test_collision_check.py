@@ -18,11 +18,11 @@ from vlm_bench.executor.motion.collision_check import (
 )
 from vlm_bench.executor.motion.ik import ArmIk
 from vlm_bench.executor.plan_replay import episode_scene
-from vlm_bench.runner.plan_executor import executor_config
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.objects.builder_kit import free_joint_name
 from vlm_bench.sim.robot import robot_geom_ids
+from vlm_bench.types.execution import ExecutorConfig
 
 
 def _reference(
@@ -83,7 +83,7 @@ def _reference(
 )
 def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str | None) -> None:
     episode = make_episode(task, 0)
-    scene = episode_scene(episode, executor_config(episode, 0.0))
+    scene = episode_scene(episode, ExecutorConfig())
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
     ik, checker = ArmIk(model), CollisionChecker(model)
@@ -121,7 +121,7 @@ def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str
 
 def test_cache_follows_the_scene() -> None:
     episode = make_episode("standard_pick_place", 0)
-    scene = episode_scene(episode, executor_config(episode, 0.0))
+    scene = episode_scene(episode, ExecutorConfig())
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
     ik, checker = ArmIk(model), CollisionChecker(model)
@@ -138,7 +138,7 @@ def test_cache_follows_the_scene() -> None:
 
 def test_world_pairs_are_never_reported() -> None:
     episode = make_episode("standard_pick_place", 0)
-    scene = episode_scene(episode, executor_config(episode, 0.0))
+    scene = episode_scene(episode, ExecutorConfig())
     model = __import__("copy").copy(scene.model)
     model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)  # resting objects report
     data = mujoco.MjData(model)

@@ -107,20 +107,21 @@ def test_a_curved_banana_is_held_on_its_middle_not_its_bounding_box() -> None:
     from incidents import incident_episode
 
     from vlm_bench.executor.sim_loop import SimLoop
-    from vlm_bench.executor.skills.grasping import Grasper
+    from vlm_bench.executor.skills.grasping import Picker
+    from vlm_bench.executor.skills.hand import Hand
     from vlm_bench.sim.objects.bounds import object_bounds
     from vlm_bench.sim.objects.groceries import _banana_axis
     from vlm_bench.sim.scene import build_scene
 
     episode = incident_episode("drawer_interaction", 1)
     scene = build_scene(episode)
-    grasper = Grasper(SimLoop(scene))
+    picker = Picker(Hand(SimLoop(scene)))
     body = scene.data.body("banana")
     rot = np.array(body.xmat).reshape(3, 3)
     kind = object_kind("banana")
     lo, hi = object_bounds(scene.model, scene.data, "banana", solid_only=True)
     (cand,) = grasp_points(kind, np.array(body.xpos), math.atan2(rot[1, 0], rot[0, 0]), lo, hi)
-    point = grasper.picker.on_section("banana", cand.point, cand.rotations[0])
+    point = picker.on_section("banana", cand.point, cand.rotations[0])
     rings = _banana_axis(*kind.size)
     middle_y = rings[len(rings) // 2][0][1]  # the arc's middle, across the banana (body frame)
     assert abs(float((rot.T @ (cand.point - body.xpos))[1]) - middle_y) > 0.015  # the box's

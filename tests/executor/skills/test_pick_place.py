@@ -16,9 +16,9 @@ from vlm_bench.executor.motion.arm_planner import MAX_ASSIST, WORK_RADII
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.lines import ArmLines
-from vlm_bench.executor.plan_replay import _Run, execute_plan
+from vlm_bench.executor.plan_replay import StepRunner, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
-from vlm_bench.executor.skills.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Grasper
+from vlm_bench.executor.skills.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Picker
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.sim import constants as c
@@ -55,7 +55,7 @@ def test_planning_checks_the_held_object_too() -> None:
     episode = make_episode("standard_pick_place", 0)
     scene = build_scene(episode)
     loop = SimLoop(scene)
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the gray cube
         assert run.step(i, step, episode.gt_plan).status == "ok"
     arm = Hand(loop)
@@ -107,7 +107,7 @@ def test_a_held_object_is_carried_clear_of_what_the_flight_stops_at() -> None:
     episode = incident_episode("store_and_close", 3)
     scene = build_scene(episode)
     loop = SimLoop(scene)
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     joint = scene.model.joint(part_joint("top_drawer")).qposadr[0]
     for i, step in enumerate(episode.gt_plan[:4]):  # fly, pick, climb, fly back to the cabinet
         assert run.step(i, step, episode.gt_plan).status == "ok"
@@ -123,7 +123,7 @@ def test_the_raise_after_a_pick_keeps_off_a_whipping_straight_line() -> None:
     of the fingers. The raise now takes a straight line only where it is steady."""
     episode = incident_episode("visual_combination_blue_red", 4)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the blue cup
         assert run.step(i, step, episode.gt_plan).status == "ok"
     arm = Hand(loop)
@@ -157,7 +157,7 @@ def test_a_cleanser_is_held_across_its_nozzle() -> None:
     nozzle's end, the bottle comes up in the hand."""
     episode = incident_episode("function_detergent", 4)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the cleanser
         outcome = run.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
@@ -207,7 +207,7 @@ def test_the_stow_after_a_release_climbs_clear_of_a_mug_beside_it() -> None:
 
     episode = incident_episode("color_matched_sorting", 8)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the black mug, place it
         outcome = run.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
@@ -223,7 +223,7 @@ def test_a_flight_no_turn_clears_climbs_over_a_basket() -> None:
     the UAV climbs first and flies higher; nothing touches the basket until the place."""
     episode = incident_episode("variant_green_nut", 7)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     z0 = None
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the nut, fly to the basket
         if i == 2:
@@ -242,7 +242,7 @@ def test_a_glide_over_a_release_keeps_a_flat_nut_in_the_fingers() -> None:
     at 0.15 m/s, slid it 1.7 cm along the pads and out. The glide now goes at 0.1 m/s."""
     episode = incident_episode("variant_green_nut", 1)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan):  # fly, descend, pick, fly, place in the basket
         outcome = run.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
@@ -255,7 +255,7 @@ def test_a_bowl_held_by_its_rim_glides_without_turning() -> None:
     hanging that wide now glides with the hand's heading kept."""
     episode = incident_episode("stacking_nesting", 3)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the bowl, place it on the plate
         outcome = run.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
@@ -268,7 +268,7 @@ def test_a_nut_beside_a_bin_wall_is_picked_across_two_flats() -> None:
     air. Of the six headings across a flat pair, one is clear."""
     episode = incident_episode("contextual_spare_part", 4)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, descend, pick the nut
         outcome = run.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
@@ -284,14 +284,14 @@ def test_a_place_prefers_a_way_down_clear_of_the_rim() -> None:
     assert result.exec_success, result.failure_reason
 
 
-def _grasper_after_the_flight(task: str, seed: int) -> tuple[Episode, Grasper]:
-    """The episode (its incident scene) and a grasper on its scene after the GT plan's first
+def _picker_after_the_flight(task: str, seed: int) -> tuple[Episode, Picker]:
+    """The episode (its incident scene) and a picker on its scene after the GT plan's first
     step (a UAV move)."""
     episode = incident_episode(task, seed)
     loop = SimLoop(build_scene(episode))
-    run = _Run(episode, loop, default_skills(loop))
+    run = StepRunner(episode, loop, default_skills(loop))
     assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
-    return episode, Grasper(loop)
+    return episode, Picker(Hand(loop))
 
 
 def _kind(episode: Episode, obj: str) -> ObjectKind:
@@ -302,12 +302,12 @@ def test_a_grasp_plan_checks_the_line_the_hand_takes() -> None:
     """variant_teddy_bear seed 4: the straight way down onto the bear took the arm far off
     the joint-space blend the plan had checked, and the elbow came down on the table. The
     grasp is now planned on the postures the line commands, and those touch nothing."""
-    episode, grasper = _grasper_after_the_flight("variant_teddy_bear", 4)
-    plan = grasper.picker.plan_grasp("teddy_bear", _kind(episode, "teddy_bear"))
+    episode, picker = _picker_after_the_flight("variant_teddy_bear", 4)
+    plan = picker.plan_grasp("teddy_bear", _kind(episode, "teddy_bear"))
     assert plan is not None
     reach, point = plan
     above = point + np.array([0.0, 0.0, PRE_GRASP])
-    arm = grasper.hand
+    arm = picker.hand
     path = arm.lines.line_path(
         reach.q_start, above, point, reach.rotation, reach.q_end, reach.shift, GRASP_DESCENT
     )
@@ -326,13 +326,13 @@ def test_a_planned_move_is_checked_densely_along_the_hand(
     0.1 rad of its widest joint swing, swept a finger through the yellow basket's rim between
     two checks; the pick landed on the rim. Checked every centimetre of the TCP's travel,
     that way counts contacts, and the pick planned with such checks succeeds."""
-    episode, grasper = _grasper_after_the_flight("color_distractor_green", 2)
+    episode, picker = _picker_after_the_flight("color_distractor_green", 2)
     with monkeypatch.context() as patch:
         patch.setattr(arm_core_module, "PATH_TRAVEL", 10.0)  # joint-space spacing alone
-        coarse = grasper.picker.plan_grasp("green_cube", _kind(episode, "green_cube"))
+        coarse = picker.plan_grasp("green_cube", _kind(episode, "green_cube"))
     assert coarse is not None and coarse[0].hits == 0
-    core, data = grasper.hand.core, grasper.loop.data
-    now = arm_qpos(grasper.loop.model, data)
+    core, data = picker.hand.core, picker.loop.data
+    now = arm_qpos(picker.loop.model, data)
     basket = core.body_geoms("yellow_basket")
     query = CollisionQuery.of(set(), c.GRIPPER_OPEN, coarse[0].shift)
     assert core.path_hits(now, coarse[0].q_start, query) > 0
@@ -371,12 +371,12 @@ def test_a_grasp_keeps_the_base_joint_off_its_limit() -> None:
     way to the bowl beside it was left but a swing that flung the can. A grasp with the base
     joint nearer its limit than GRASP_TURN_ROOM now counts as a contact, and the UAV moves
     for one with room."""
-    episode, grasper = _grasper_after_the_flight("variant_tomato_can", 3)
-    plan = grasper.picker.plan_grasp("tomato_can", _kind(episode, "tomato_can"))
+    episode, picker = _picker_after_the_flight("variant_tomato_can", 3)
+    plan = picker.plan_grasp("tomato_can", _kind(episode, "tomato_can"))
     assert plan is not None
     reach, _ = plan
     assert reach.hits == 0
-    ik = grasper.hand.core.ik
+    ik = picker.hand.core.ik
     for q in (reach.q_start, reach.q_end):
         assert ik.room(q)[0] >= GRASP_TURN_ROOM
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))

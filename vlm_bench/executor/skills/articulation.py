@@ -23,8 +23,8 @@ from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.ik import TOP_DOWN_SEED, frontal_rotation, top_down_rotation
 from vlm_bench.executor.motion.joint_moves import hold_with_gripper, joint_move
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
-from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.executor.sim_loop import SimLoop, Skill
+from vlm_bench.executor.skills.hand import HANDLE_BACK_OFF, Hand
 from vlm_bench.sim.constants import (
     ARM_BASE_BODY,
     CONTROL_DT,
@@ -48,8 +48,8 @@ TURN_DEG = 115.0  # knob turn commanded (design.md#arm-skills: ≥ 90°; the gri
 TURN_MIN_DEG = 90.0
 KNOB_GRIP_DEPTH = 0.022  # m below the knob's top where the fingers hold it
 TURN_S = 3.0  # s for the turn
-RETREAT = 0.08  # m the open hand backs off the handle at least...
-CLEAR_OF_HANDLE = 0.50  # m: ...and until the arm base is this far (horizontally) from it
+CLEAR_OF_HANDLE = 0.50  # m: the open hand backs off the handle at least HANDLE_BACK_OFF and
+# until the arm base is this far (horizontally) from it
 STROKE_FRACTIONS = (1.0, 0.75, 0.5, 0.25)  # of a slide, tried for the arm's own stroke
 BACK_ASSIST = (0.0, 0.1, 0.2)  # m the UAV may back away from a handle before grasping it
 STROKE_JOINT_SPEED = 1.0  # rad/s: the fastest joint an arm's own slide may need
@@ -58,9 +58,9 @@ STROKE_JOINT_SPEED = 1.0  # rad/s: the fastest joint an arm's own slide may need
 class _PartSkills:
     """What the skills on articulated parts share: the hand and the parts' joints."""
 
-    def __init__(self, loop: SimLoop, hand: Hand) -> None:
-        self.loop = loop
+    def __init__(self, hand: Hand) -> None:
         self.hand = hand
+        self.loop = hand.loop
 
     def part(self, episode: Episode, name: str, kind: str) -> PartRef | SkillFailure:
         """The part, or the reason the step cannot act on it."""
@@ -193,7 +193,7 @@ class Drawers(_PartSkills):
         base = loop.data.body(ARM_BASE_BODY).xpos
         tcp, _ = hand.tcp()
         gap = float(np.dot(base[:2] - tcp[:2], axis[:2]))
-        retreat = axis * max(RETREAT, CLEAR_OF_HANDLE - gap)
+        retreat = axis * max(HANDLE_BACK_OFF, CLEAR_OF_HANDLE - gap)
         hand.carry(retreat, SLIDE_SPEED)
         undo = -(back.xyz + retreat + hand.stow())
         hand.shift_base(
@@ -321,12 +321,8 @@ def _slide_seconds(travel: FloatArray) -> float:
     return max(1.5, float(np.linalg.norm(travel)) / SLIDE_SPEED)
 
 
-def articulation_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, ArmSkill]:
+def articulation_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, Skill]:
     """``pull``, ``close`` and ``rotate`` bound to one loop."""
     hand = hand or Hand(loop)
-    drawers, knobs = Drawers(loop, hand), Knobs(loop, hand)
-    return {
-        "pull": lambda _loop, episode, step: drawers.pull(episode, step),
-        "close": lambda _loop, episode, step: drawers.close(episode, step),
-        "rotate": lambda _loop, episode, step: knobs.rotate(episode, step),
-    }
+    drawers, knobs = Drawers(hand), Knobs(hand)
+    return {"pull": drawers.pull, "close": drawers.close, "rotate": knobs.rotate}

@@ -17,7 +17,7 @@ from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.ik import TOP_DOWN_SEED
 from vlm_bench.executor.motion.joint_moves import hold_with_gripper, joint_move
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.executor.sim_loop import SimLoop, Skill
 from vlm_bench.executor.skills.carry_raise import raise_to_carry
 from vlm_bench.executor.skills.grasp_points import grasp_points
 from vlm_bench.executor.skills.hand import Hand
@@ -155,28 +155,7 @@ class Picker:
         return float(lo[2])
 
 
-class Grasper:
-    """Pick and place for one scene, sharing one hand (what is held lives in ``loop.held``)."""
-
-    def __init__(self, loop: SimLoop, hand: Hand | None = None) -> None:
-        self.loop = loop
-        self.hand = hand or Hand(loop)
-        self.picker = Picker(self.hand)
-        self.placer = Placer(self.hand)
-
-    def pick(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
-        """See :meth:`Picker.pick`."""
-        return self.picker.pick(episode, step)
-
-    def place(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
-        """See :meth:`Placer.place`."""
-        return self.placer.place(episode, step)
-
-
-def grasp_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, ArmSkill]:
-    """``pick`` and ``place`` bound to one loop (they share what is held)."""
-    grasper = Grasper(loop, hand)
-    return {
-        "pick": lambda _loop, episode, step: grasper.pick(episode, step),
-        "place": lambda _loop, episode, step: grasper.place(episode, step),
-    }
+def grasp_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, Skill]:
+    """``pick`` and ``place`` bound to one loop (they share one hand and what it holds)."""
+    hand = hand or Hand(loop)
+    return {"pick": Picker(hand).pick, "place": Placer(hand).place}

@@ -20,6 +20,10 @@ from vlm_bench.sim.constants import LEFT_FINGER_BODY, RIGHT_FINGER_BODY
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.types.base import FloatArray
 
+# How far the open hand withdraws at least after letting go: two moves, two distances.
+RELEASE_RISE = 0.12  # m: up, after a place releases the object
+HANDLE_BACK_OFF = 0.08  # m: back from a drawer's handle, after a pull or close
+
 
 class Hand:
     """The arm of one loop as the skills use it.

@@ -14,7 +14,7 @@ from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.ik import top_down_rotation
 from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
 from vlm_bench.executor.skills.carry_raise import raise_to_carry
-from vlm_bench.executor.skills.hand import Hand
+from vlm_bench.executor.skills.hand import RELEASE_RISE, Hand
 from vlm_bench.executor.skills.release_points import (
     can_drop_into,
     hang,
@@ -44,7 +44,6 @@ WIDE_HANG = 0.04  # m: an object whose centre of mass hangs this far off the TCP
 SLIP = 0.03  # m a held object may move in the hand on the way to its release while out of one
 # finger's touch (an object set down on its destination can be pushed up between the pads)
 LIFT_SECONDS = 0.8  # s the hand takes to rise over its destination before a place
-RETREAT = 0.12  # m: the open hand rises at least this far after a release
 RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (more than an
 # outstretched arm's sag: farther off, it did not get there)
 DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
@@ -171,7 +170,7 @@ class Placer:
             self._set_down(held, drop.dest, release, rot)
         hold_with_gripper(loop, 0.6, GRIPPER_OPEN)
         loop.held = None
-        retreat = max(RETREAT, float(drop.above[2] - release[2]))  # clear of the rim
+        retreat = max(RELEASE_RISE, float(drop.above[2] - release[2]))  # clear of the rim
         hand.lines.line(release, release + np.array([0.0, 0.0, retreat]), rot, 1.0, GRIPPER_OPEN)
         raise_to_carry(hand, rot, GRIPPER_OPEN)
         undo = shift.undo()  # the UAV's moves (and turn) made for the release, undone

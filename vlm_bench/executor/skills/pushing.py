@@ -22,7 +22,7 @@ from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.ik import TOP_DOWN_SEED, top_down_rotation
 from vlm_bench.executor.motion.joint_moves import hold_with_gripper, joint_move
-from vlm_bench.executor.sim_loop import ArmSkill, SimLoop
+from vlm_bench.executor.sim_loop import SimLoop, Skill
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.sim.constants import GRIPPER_CLOSED
 from vlm_bench.sim.objects.bounds import object_bounds
@@ -93,9 +93,9 @@ def _ray_box_entry(
 class Pusher:
     """``push`` for one scene."""
 
-    def __init__(self, loop: SimLoop, hand: Hand | None = None) -> None:
-        self.loop = loop
-        self.hand = hand or Hand(loop)
+    def __init__(self, hand: Hand) -> None:
+        self.hand = hand
+        self.loop = hand.loop
 
     def _bounds(self, name: str) -> tuple[FloatArray, FloatArray]:
         return object_bounds(self.loop.model, self.loop.data, name, solid_only=True)
@@ -294,7 +294,7 @@ def _stroke_seconds(start: FloatArray, end: FloatArray) -> float:
     return max(1.5, float(np.linalg.norm(end - start)) / SPEED)
 
 
-def push_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, ArmSkill]:
+def push_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, Skill]:
     """``push`` bound to one loop."""
-    pusher = Pusher(loop, hand)
-    return {"push": lambda _loop, episode, step: pusher.push(episode, step)}
+    pusher = Pusher(hand or Hand(loop))
+    return {"push": pusher.push}
