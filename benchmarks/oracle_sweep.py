@@ -1,4 +1,4 @@
-"""Replay every GT plan in the simulator: success rate, real-time factor per suite, sweep time.
+"""Execute every GT plan in the simulator: success rate, real-time factor per suite, sweep time.
 
 Usage: ``python benchmarks/oracle_sweep.py [--seeds 0-9] [--workers 2] [--out sweep.jsonl]``
 
@@ -58,7 +58,7 @@ def main() -> None:
         "--episodes",
         type=Path,
         default=None,
-        help="a JSON list of 'task:seed' to replay instead of --tasks x --seeds",
+        help="a JSON list of 'task:seed' to execute instead of --tasks x --seeds",
     )
     args = parser.parse_args()
 

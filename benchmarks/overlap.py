@@ -1,18 +1,18 @@
-"""Generation and plan replays overlapped: a run's wall time against max(generation, execution).
+"""Generation and plan executions overlapped: a run's wall time against max(generation, execution).
 
 Usage: ``python benchmarks/overlap.py [--latency 2] [--batch-size 2] [--tasks 8] [--seeds 1]
 [--workers 1,2] [--closed --perturb slip=0.5]``
 
 A mock backend answers every batch after a fixed ``--latency`` (like a model on a GPU) with the
-GT plans. For each number of replay workers, three runs over the same episodes (explicit
+GT plans. For each number of execution workers, three runs over the same episodes (explicit
 instruction, seeds 0 to ``--seeds`` − 1; snapshots cached beforehand, so rendering is out of the
 picture):
 
 * generation: ``--no-execute`` with the latency (what the model alone takes);
-* execution: the plans replayed with no latency (what the simulator alone takes);
+* execution: the plans executed with no latency (what the simulator alone takes);
 * both: the run as a user makes it.
 
-Overlap is perfect when *both* takes max(generation, execution); serial replays take their sum.
+Overlap is perfect when *both* takes max(generation, execution); serial executions take their sum.
 All runs of one invocation are measured on the same machine state; the ratios are what to quote.
 
 ``--closed``: closed-loop runs of the ``rules`` planner (scene as text) with ``--perturb`` on
@@ -110,7 +110,7 @@ def _run(
 ) -> tuple[float, int]:
     """Wall time and generate calls of one run (closed loop where ``perturb`` is given)."""
     import vlm_bench
-    from vlm_bench.types.execution import ReplayOptions
+    from vlm_bench.types.execution import ExecutionOptions
 
     closed = {"loop": "closed", "perturb": perturb, "scene_as_text": True} if perturb else {}
     backend = SlowRules(latency) if perturb else SlowOracle(latency)
@@ -125,7 +125,7 @@ def _run(
         out=out,
         backend=backend,
         snapshot_cache=cache,
-        replay=ReplayOptions(workers=workers),
+        execution=ExecutionOptions(workers=workers),
         **closed,
     )
     return time.perf_counter() - start, result.stats.generate_calls
@@ -135,9 +135,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--latency", type=float, default=2.0, help="seconds per batch")
     parser.add_argument("--batch-size", type=int, default=2)
-    parser.add_argument("--tasks", type=int, default=8, help="episodes (fast GT replays)")
+    parser.add_argument("--tasks", type=int, default=8, help="episodes (fast GT executions)")
     parser.add_argument("--seeds", type=int, default=1, help="seeds per task (0 .. N-1)")
-    parser.add_argument("--workers", default="1,2", help="replay workers to compare")
+    parser.add_argument("--workers", default="1,2", help="execution workers to compare")
     parser.add_argument("--closed", action="store_true", help="closed loop (rules planner)")
     parser.add_argument("--perturb", default="slip=0.5", help="closed loop: --perturb")
     args = parser.parse_args()

@@ -3,7 +3,7 @@
 1. ``--ray-address`` the head: its records equal a run with worker processes, field by field.
 2. No ``--ray-address`` while the cluster runs (and ``RAY_ADDRESS`` names it): the run starts
    its own local cluster instead of failing.
-3. The worker node is killed mid-run: the run ends within ``--exec-stall-s`` with the replays in
+3. The worker node is killed mid-run: the run ends within ``--exec-stall-s`` with the executions in
    flight written as lost (exit code 3).
 4. The node is started again and the same command resumes: its records equal run 1's.
 
@@ -137,7 +137,9 @@ def main() -> None:
         code = proc.wait(timeout=args.stall + 300)
         took = time.monotonic() - killed_at
         lost = [r for r in _records(killed_dir).values() if r["status"] == "error"]
-        print(f"3. worker node killed: exit {code} after {took:.0f} s, {len(lost)} replay(s) lost")
+        print(
+            f"3. worker node killed: exit {code} after {took:.0f} s, {len(lost)} execution(s) lost"
+        )
         ok &= code == 3 and bool(lost) and took < args.stall + 120
 
         node = _ray_start(["--address", address, "--num-cpus", str(args.cpus), *common], env, log)

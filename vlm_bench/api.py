@@ -4,7 +4,7 @@ Example:
     >>> import vlm_bench
     >>> result = vlm_bench.run(model="oracle", suite="long_horizon", seeds=(0, 1), resolution=64)
     >>> result.summary  # the paper's table in long form (one row per model × instruction × suite)
-    >>> vlm_bench.replay("drawer_interaction", 3).result.exec_success  # replay the GT plan
+    >>> vlm_bench.execute("drawer_interaction", 3).result.exec_success  # execute the GT plan
 
 Runs execute every valid plan in the simulator unless ``execute=False``; ``uav_noise=2.0``
 adds gusts on the UAV (the paper's "UAV Disturb." condition). The CLI (``vlm-bench
@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.records import EpisodeRecord, OutputScore
 from vlm_bench.types.run import RunConfig, RunManifest, run_config
 from vlm_bench.types.scores import ScoringConfig
@@ -30,14 +30,14 @@ if TYPE_CHECKING:
     from vlm_bench.backends import Backend
     from vlm_bench.runner import PipelineStats
     from vlm_bench.runner.episode_request import PromptPreview
-    from vlm_bench.runner.single_replay import Replay
+    from vlm_bench.runner.task_execution import ExecutedPlan
 
 __all__ = [
     "RunConfig",
     "RunResult",
+    "execute",
     "load_run",
     "preview_prompt",
-    "replay",
     "rescore",
     "run",
     "run_dir_for",
@@ -106,7 +106,7 @@ def run(
     backend: Backend | None = None,
     snapshot_cache: Path | bool | None = True,
     progress: bool = False,
-    replay: ReplayOptions | None = None,
+    execution: ExecutionOptions | None = None,
     **options: Any,
 ) -> RunResult:
     """Evaluate a model's plans on the benchmark, resuming the run folder if it exists.
@@ -119,8 +119,8 @@ def run(
         snapshot_cache: PNG cache folder; True = ``.snapshots`` beside the run folder (or
             ``VLM_BENCH_SNAPSHOT_CACHE``); False/None = render every episode.
         progress: Show progress on stderr.
-        replay: Where plans are replayed (default: one worker process per core, beside
-            generation; ``ReplayOptions(workers=0)`` replays inline).
+        execution: Where plans are executed (default: one worker process per core, beside
+            generation; ``ExecutionOptions(workers=0)`` executes inline).
         **options: :class:`RunConfig` fields when ``config`` is None (``model="oracle"``,
             ``execute=False`` to skip plan execution, ``uav_noise=2.0`` for gusts,
             ``loop="closed", max_rounds=3`` to replan after failures,
@@ -151,25 +151,25 @@ def run(
         backend=backend,
         snapshot_cache=snapshot_cache,
         progress=progress,
-        replay=replay,
+        execution=execution,
     )
     summary = write_summary(outcome.run_dir)
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, outcome.stats)
 
 
 def rescore(
-    run_dir: Path | str, *, progress: bool = False, replay: ReplayOptions | None = None
+    run_dir: Path | str, *, progress: bool = False, execution: ExecutionOptions | None = None
 ) -> RunResult:
     """Recompute parses and scores of a run from its response cache; no model is called.
 
-    A run that executes plans executes them all again, in the pool ``replay`` asks for
+    A run that executes plans executes them all again, in the pool ``execution`` asks for
     (default: one worker process per core). Rewrites ``records.jsonl`` (one line per episode,
     in its order) and the summary files.
     """
     from vlm_bench.report import write_summary
     from vlm_bench.runner import PipelineStats, rescore_run
 
-    outcome = rescore_run(Path(run_dir), progress=progress, replay=replay)
+    outcome = rescore_run(Path(run_dir), progress=progress, execution=execution)
     summary = write_summary(outcome.run_dir)
     stats = PipelineStats(
         total=len(outcome.records),
@@ -234,7 +234,7 @@ def preview_prompt(
     return preview_request(config, cache)
 
 
-def replay(
+def execute(
     task_id: str,
     seed: int,
     plan: str | None = None,
@@ -247,7 +247,7 @@ def replay(
     fps: float = 10.0,
     size: int = 480,
     shadows: bool = True,
-) -> Replay:
+) -> ExecutedPlan:
     """Execute one plan on an episode in the simulator (the GT plan when ``plan`` is None).
 
     Args:
@@ -257,7 +257,7 @@ def replay(
         source: The plan's origin, named in error messages (e.g. its file name).
         instruction: Instruction variant the plan answers (a label; both share the scene).
         uav_noise: Gust force std on the UAV (N), seeded per episode as in runs.
-        video: Write a video of the replay here (``.mp4`` needs the ``video`` extra, ``.gif``
+        video: Write a video of the execution here (``.mp4`` needs the ``video`` extra, ``.gif``
             does not).
         camera: Camera filmed (``uav``, ``wrist``, ``overhead``, ``side``, ...).
         fps: Video frames per second (at most 20, the control rate).
@@ -265,17 +265,17 @@ def replay(
         shadows: Render the video with shadows (2–3× slower per frame on a CPU).
 
     Returns:
-        The :class:`~vlm_bench.runner.single_replay.Replay`: the plan, the
+        The :class:`~vlm_bench.runner.task_execution.ExecutedPlan`: the plan, the
         :class:`~vlm_bench.types.execution.ExecutionResult`, goal labels and the video path.
 
     Raises:
         ConfigError: An invalid plan (names the step) or option. UnknownNameError: Unknown task
         or camera. MissingExtraError: MP4 without imageio-ffmpeg.
     """
-    from vlm_bench.runner.single_replay import VideoOptions, replay_plan
+    from vlm_bench.runner.task_execution import VideoOptions, execute_task_plan
 
     options = VideoOptions(Path(video), camera, fps, size, shadows) if video is not None else None
-    return replay_plan(
+    return execute_task_plan(
         task_id, seed, plan, source=source, variant=instruction, uav_noise=uav_noise, video=options
     )
 

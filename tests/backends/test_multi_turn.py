@@ -13,7 +13,7 @@ pytest.importorskip("openai")
 
 import vlm_bench.api as api
 from vlm_bench.backends.messages import openai_messages
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.generation import GenerationRequest, ImagePart, TextPart, Turn
 
 PNG = b"\x89PNG\r\n\x1a\n" + b"fake"
@@ -41,7 +41,7 @@ def test_round_two_sends_the_whole_conversation(tmp_path: Path, history: str) ->
     with FakeServer() as server:  # answers every request with one move left: never done
         result = api.run(
             out=tmp_path / "run",
-            replay=ReplayOptions(workers=0),
+            execution=ExecutionOptions(workers=0),
             model="openai/m",
             backend_args={"base_url": server.url},
             tasks=("standard_pick_place",),

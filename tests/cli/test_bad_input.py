@@ -294,12 +294,12 @@ def test_a_non_utf8_skill_file_through_the_cli(cli: Cli, tmp_path: Path) -> None
 def test_execute_checks_the_video_folder_before_simulating(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import vlm_bench.runner.single_replay as replay_module
+    import vlm_bench.runner.task_execution as execution_module
 
     def never(*args: object, **kwargs: object) -> None:
         raise AssertionError("simulated before the video path was checked")
 
-    monkeypatch.setattr(replay_module, "replay_plan", never)
+    monkeypatch.setattr(execution_module, "execute_task_plan", never)
     missing = tmp_path / "missing" / "v.gif"
     code, err = _main(capsys, "execute", TASK, "--video", str(missing))
     _one_line_error(code, err, "--video", str(missing.parent), "does not exist")

@@ -1,5 +1,5 @@
 """The scenes of past executor incidents, frozen as they were materialised when each was seen
-(commit 357ab69, before the UAV's start altitude varied), so a regression test keeps replaying
+(commit 357ab69, before the UAV's start altitude varied), so a regression test keeps executing
 the scene that showed the problem whatever the episode generator draws today."""
 
 from __future__ import annotations

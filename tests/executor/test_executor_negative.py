@@ -1,7 +1,7 @@
 """Wrong plans fail for the right reason, and grasps are physical (docs/design.md#executor).
 
 All cases perturb the GT plan of ``color_distractor_green`` seed 0 (``right``, pick green_cube,
-place yellow_basket), whose GT replay succeeds.
+place yellow_basket), whose GT execution succeeds.
 """
 
 from __future__ import annotations
@@ -144,7 +144,7 @@ def test_a_users_skill_failure_is_recorded_as_given(episode: Episode) -> None:
     assert ExecutionSummary.of(result).failure_code is FailureCode.SKILL_FAILED
 
 
-def test_a_replay_past_its_simulated_time_budget_fails_with_its_code(episode: Episode) -> None:
+def test_an_execution_past_its_simulated_time_budget_fails_with_its_code(episode: Episode) -> None:
     config = ExecutorConfig(budget_base_s=1.0, budget_per_step_s=0.5)
     assert config.sim_budget_s(2) == 2.0
     plan = [UavStep(direction=Direction.RIGHT), UavStep(direction=Direction.LEFT)]

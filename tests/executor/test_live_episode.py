@@ -34,7 +34,7 @@ def test_a_second_plan_continues_where_the_first_left() -> None:
     second = live.execute(HOP)
     assert second.final_uav_pose.pos[2] == pytest.approx(z1 + 0.2, abs=0.02)
     assert second.sim_time_s > first.sim_time_s  # the episode's clock runs on
-    assert _same(first, execute_plan(episode, HOP))  # round 0 is the one-shot replay
+    assert _same(first, execute_plan(episode, HOP))  # round 0 is the one-shot execution
 
 
 def test_the_state_now_moves_objects_relative_to_the_uav() -> None:

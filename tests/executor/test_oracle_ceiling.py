@@ -1,8 +1,8 @@
 """Oracle ceiling (docs/design.md#oracle-ceiling): every GT plan must succeed in the simulator.
 
-The default suite replays seed 0 of :data:`CI_TASKS`, which between them hold every skill of
+The default suite executes seed 0 of :data:`CI_TASKS`, which between them hold every skill of
 the GT plans and every suite; the other tasks' seed 0 and seeds 1-9 are ``slow`` (``pytest -m
-slow``: 600 replays, several minutes on a 2-core machine). Episodes the
+slow``: 600 executions, several minutes on a 2-core machine). Episodes the
 executor cannot finish yet are listed in ``KNOWN_FAILURES`` (task, seed) with the reason observed
 and run as non-strict xfails, so the list is the open work of issue 4 and every other episode is
 asserted.
@@ -30,7 +30,7 @@ CI_TASKS = (
     "hybrid_interaction_stove",
     "store_and_close",
 )
-"""Seed-0 replays in the default suite: every GT skill (pick, place, pull, push, rotate, close)
+"""Seed-0 executions in the default suite: every GT skill (pick, place, pull, push, rotate, close)
 and every suite in five episodes (checked by :func:`test_ci_tasks_hold_every_skill_and_suite`)."""
 
 
@@ -44,7 +44,7 @@ def _cases(seeds: range, tasks: Sequence[str] = TASKS) -> list[object]:
     ]
 
 
-def _replay(task: str, seed: int) -> None:
+def _execute(task: str, seed: int) -> None:
     episode = get_episode(task, seed)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
@@ -66,7 +66,7 @@ def test_ci_tasks_hold_every_skill_and_suite() -> None:
 
 @pytest.mark.parametrize(("task", "seed"), _cases(range(1), CI_TASKS))
 def test_gt_plan_succeeds_seed0(task: str, seed: int) -> None:
-    _replay(task, seed)
+    _execute(task, seed)
 
 
 @pytest.mark.slow
@@ -74,10 +74,10 @@ def test_gt_plan_succeeds_seed0(task: str, seed: int) -> None:
     ("task", "seed"), _cases(range(1), [t for t in TASKS if t not in CI_TASKS])
 )
 def test_gt_plan_succeeds_seed0_other_tasks(task: str, seed: int) -> None:
-    _replay(task, seed)
+    _execute(task, seed)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize(("task", "seed"), _cases(range(1, 10)))
 def test_gt_plan_succeeds_seeds_1_to_9(task: str, seed: int) -> None:
-    _replay(task, seed)
+    _execute(task, seed)

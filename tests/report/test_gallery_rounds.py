@@ -11,7 +11,7 @@ import vlm_bench.api as api
 from vlm_bench.backends import Backend
 from vlm_bench.report.gallery import write_gallery
 from vlm_bench.runner.run_views import run_views
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 
 HOP = json.dumps([{"subtask": 0, "tasktype": "UAV", "direction": "up", "distance": 0.1}])
@@ -31,7 +31,7 @@ def test_a_replan_shows_the_state_feedback_and_plan(tmp_path: Path) -> None:
     api.run(
         out=run,
         backend=Hopper(),
-        replay=ReplayOptions(workers=0),
+        execution=ExecutionOptions(workers=0),
         model="hopper",
         tasks=("standard_pick_place",),
         seeds=(0,),

@@ -213,7 +213,7 @@ def test_parse_tiers_and_error_codes_hand_computed(make_record: Make) -> None:
 def test_execution_failure_codes_per_system(
     make_record: Make, make_execution: Callable[..., ExecutionSummary]
 ) -> None:
-    """Shares are of the answered episodes that were to be executed: 4 for m (2 replays fail
+    """Shares are of the answered episodes that were to be executed: 4 for m (2 executions fail
     out of reach, 1 answer held no plan, 1 succeeds); the backend error is not counted."""
     crash = make_execution(False, 0.0).model_copy(
         update={"failure_code": FailureCode.EXECUTOR_CRASH, "failure_reason": "executor raised"}

@@ -18,11 +18,11 @@ from vlm_bench.backends import Backend
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
-from vlm_bench.runner.loop_replays import LoopReplays
-from vlm_bench.runner.replays import MAX_ATTEMPTS, REPLAY_LOST, WORKER_DIED
+from vlm_bench.runner.executions import EXECUTION_LOST, MAX_ATTEMPTS, WORKER_DIED
+from vlm_bench.runner.loop_executions import LoopExecutions
 from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig, run_config
@@ -31,7 +31,7 @@ from vlm_bench.types.scores import ScoringConfig
 TASK = "standard_pick_place"
 HOP = json.dumps([{"subtask": 0, "tasktype": "UAV", "direction": "up", "distance": 0.1}])
 SKIP = {"run_id", "rounds", "loop"}
-INLINE = ReplayOptions(workers=0)
+INLINE = ExecutionOptions(workers=0)
 
 
 class Hopper(Backend):
@@ -92,7 +92,9 @@ def test_replans_continue_the_simulation_and_every_round_is_kept(tmp_path: Path)
     assert backend.seen[2].meta is not None and backend.seen[2].meta.round == 2
     assert len({record.prompt_hash, *(r.prompt_hash for r in record.rounds)}) == 3
 
-    opened = api.run(replay=INLINE, config=_config(), out=tmp_path / "o" / "run", backend=Hopper())
+    opened = api.run(
+        execution=INLINE, config=_config(), out=tmp_path / "o" / "run", backend=Hopper()
+    )
     (plain,) = opened.records
     assert plain.rounds is None and plain.loop is None
     assert _round0(record) == _round0(plain)  # round 0 is the open-loop record
@@ -103,13 +105,13 @@ def test_replans_continue_the_simulation_and_every_round_is_kept(tmp_path: Path)
 def test_a_resume_answers_every_round_from_the_cache(tmp_path: Path) -> None:
     run_dir = tmp_path / "run"
     api.run(
-        replay=INLINE, config=_config(loop="closed", max_rounds=2), out=run_dir, backend=Hopper()
+        execution=INLINE, config=_config(loop="closed", max_rounds=2), out=run_dir, backend=Hopper()
     )
     want = json.loads((run_dir / "records.jsonl").read_text())
     (run_dir / "records.jsonl").write_text("")  # killed before the record was written
     backend = Hopper()
     (record,) = api.run(
-        replay=INLINE, config=_config(loop="closed", max_rounds=2), out=run_dir, backend=backend
+        execution=INLINE, config=_config(loop="closed", max_rounds=2), out=run_dir, backend=backend
     ).records
     assert backend.seen == []  # every round came from the response cache
     assert record.rounds is not None and all(r.cached for r in record.rounds)
@@ -124,11 +126,11 @@ def test_a_failed_replan_writes_an_error_record_that_a_resume_retries(tmp_path: 
     run_dir = tmp_path / "run"
     bad = Hopper(fail_id=f"{TASK}/0/explicit#r1")
     (record,) = api.run(
-        replay=INLINE, config=_config(loop="closed", max_rounds=1), out=run_dir, backend=bad
+        execution=INLINE, config=_config(loop="closed", max_rounds=1), out=run_dir, backend=bad
     ).records
     assert record.status == "error" and "round 1" in (record.backend_error or "")
     (fixed,) = api.run(
-        replay=INLINE, config=_config(loop="closed", max_rounds=1), out=run_dir, backend=Hopper()
+        execution=INLINE, config=_config(loop="closed", max_rounds=1), out=run_dir, backend=Hopper()
     ).records
     assert fixed.ok and fixed.loop is not None and fixed.loop.rounds_used == 2
 
@@ -193,7 +195,7 @@ def _hop_record() -> tuple[Episode, EpisodeRecord]:
 def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
     episode, record = _hop_record()
     pool = _FlakyPool(breaks=1)
-    loops = LoopReplays(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
+    loops = LoopExecutions(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
     assert loops.submit(episode, record) is None
     assert list(loops.drain()) == []  # round 0 failed its goals: waiting for the replan
     assert pool.restarts == 1 and len(loops.requests()) == 1
@@ -201,12 +203,12 @@ def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
 
 def test_an_episode_whose_worker_keeps_dying_is_lost_and_retried_on_resume() -> None:
     episode, record = _hop_record()
-    dying = LoopReplays(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
+    dying = LoopExecutions(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
     dying.submit(episode, record)
     (out,) = list(dying.drain())
     assert out.status == "error" and out.loop is None  # not a result: a resume runs it again
-    assert out.backend_error is not None and out.backend_error.startswith(REPLAY_LOST)
-    assert WORKER_DIED in out.backend_error and out.error_tags == ("replay_lost",)
+    assert out.backend_error is not None and out.backend_error.startswith(EXECUTION_LOST)
+    assert WORKER_DIED in out.backend_error and out.error_tags == ("execution_lost",)
     assert dying.stats.lost == 1 and dying.in_flight == 0
 
 
@@ -227,7 +229,7 @@ class _HungPool(_FlakyPool):
 def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
     episode, record = _hop_record()
     pool = _HungPool()
-    loops = LoopReplays(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
+    loops = LoopExecutions(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
     loops.submit(episode, record)
     start = time.monotonic()
     out: list[EpisodeRecord] = []

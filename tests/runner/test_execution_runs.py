@@ -21,10 +21,10 @@ from vlm_bench.runner.plan_executor import CRASH_PREFIX
 from vlm_bench.storage import ConfigMismatchError, latest_records
 from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.execution import (
+    ExecutionOptions,
     ExecutionSummary,
     ExecutorConfig,
     FailureCode,
-    ReplayOptions,
 )
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.plan import Direction, UavStep
@@ -80,7 +80,7 @@ def test_run_records_executions_and_summary_columns(tmp_path: Path) -> None:
     assert hop.execution.sim_time_s > 1.0 and not hop.execution.exec_success
     assert refusal.ok and refusal.execution is None  # no plan: not executed
     assert result.stats.executed == 1 and result.stats.exec_crashes == 0
-    stored = latest_records(tmp_path / "run" / "records.jsonl")  # in the order replays ended
+    stored = latest_records(tmp_path / "run" / "records.jsonl")  # in the order executions ended
     assert {r.key: r.execution for r in stored} == {r.key: r.execution for r in result.records}
 
     summary = pd.read_csv(tmp_path / "run" / "summary.csv")
@@ -134,8 +134,8 @@ def test_an_executor_exception_is_a_recorded_failure(
         raise RuntimeError("boom")
 
     monkeypatch.setattr(vlm_bench.executor, "execute_plan", explode)
-    inline = ReplayOptions(workers=0)  # the patch lives in this process only
-    result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), replay=inline)
+    inline = ExecutionOptions(workers=0)  # the patch lives in this process only
+    result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), execution=inline)
     hop = next(r for r in result.records if r.variant == "explicit")
     assert hop.ok and hop.execution is not None and not hop.execution.exec_success
     assert hop.execution.failure_reason == f"{CRASH_PREFIX} RuntimeError: boom"
@@ -148,7 +148,7 @@ def test_a_non_finite_execution_number_is_a_recorded_crash(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """A NaN or infinity from the simulator never reaches a record (JSON has no form for it, and
-    pydantic would write null, which the record could not be read back from): the replay is a
+    pydantic would write null, which the record could not be read back from): the execution is a
     recorded executor crash naming the field, and the run folder reads back."""
     real = vlm_bench.executor.execute_plan
 
@@ -156,8 +156,8 @@ def test_a_non_finite_execution_number_is_a_recorded_crash(
         return real(*args, **kwargs).model_copy(update={"sim_time_s": math.inf})  # type: ignore[arg-type]
 
     monkeypatch.setattr(vlm_bench.executor, "execute_plan", blown_up)
-    inline = ReplayOptions(workers=0)  # the patch lives in this process only
-    result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), replay=inline)
+    inline = ExecutionOptions(workers=0)  # the patch lives in this process only
+    result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), execution=inline)
     hop = next(r for r in result.records if r.variant == "explicit")
     assert hop.execution is not None and hop.execution.failure_code is FailureCode.EXECUTOR_CRASH
     assert "sim_time_s" in (hop.execution.failure_reason or "")
@@ -188,15 +188,15 @@ def test_rescore_executes_again(tmp_path: Path) -> None:
 
 
 def test_rescore_in_a_pool_keeps_the_records_and_their_order(tmp_path: Path) -> None:
-    """Rescoring replays plans in worker processes (identical plans once) and writes the
+    """Rescoring executes plans in worker processes (identical plans once) and writes the
     records back in the order the run wrote them, equal to an inline rescore's."""
-    both = Scripted(implicit=HOP)  # both variants answer the same plan: one replay per episode
+    both = Scripted(implicit=HOP)  # both variants answer the same plan: one execution per episode
     config = _config(seeds=(0, 1))
-    api.run(config, out=tmp_path / "a", backend=both, replay=ReplayOptions(workers=0))
+    api.run(config, out=tmp_path / "a", backend=both, execution=ExecutionOptions(workers=0))
     order = [r.key for r in latest_records(tmp_path / "a" / "records.jsonl")]
-    inline = api.rescore(tmp_path / "a", replay=ReplayOptions(workers=0))
-    api.run(config, out=tmp_path / "b", backend=both, replay=ReplayOptions(workers=0))
-    pooled = api.rescore(tmp_path / "b", replay=ReplayOptions(workers=2))
+    inline = api.rescore(tmp_path / "a", execution=ExecutionOptions(workers=0))
+    api.run(config, out=tmp_path / "b", backend=both, execution=ExecutionOptions(workers=0))
+    pooled = api.rescore(tmp_path / "b", execution=ExecutionOptions(workers=2))
     assert [r.key for r in latest_records(tmp_path / "b" / "records.jsonl")] == order
     assert pooled.stats.executed == 2 and inline.stats.executed == 2
     assert [r.execution for r in pooled.records] != [None] * 4
@@ -206,7 +206,7 @@ def test_rescore_in_a_pool_keeps_the_records_and_their_order(tmp_path: Path) -> 
     ]
 
 
-def test_scene_copies_replay_exactly_like_fresh_scenes() -> None:
+def test_scene_copies_execute_exactly_like_fresh_scenes() -> None:
     episode = make_episode(TASK, 1)
     plan = [UavStep(direction=Direction.UP, distance=0.2)]
     executor = PlanExecutor(ExecutorConfig(uav_noise=2.0))
@@ -259,15 +259,15 @@ def test_only_usable_nonempty_plans_are_executed() -> None:
     assert record_plan(failed) is None
 
 
-def test_an_executor_replays_each_plan_on_a_fresh_copy_of_the_episodes_scene() -> None:
+def test_an_executor_executes_each_plan_on_a_fresh_copy_of_the_episodes_scene() -> None:
     from vlm_bench.types.plan import ArmStep
 
     episode = make_episode(TASK, 0)
     executor = PlanExecutor()
     plan: list[UavStep | ArmStep] = [UavStep(direction=Direction.UP, distance=0.1)]
-    first, crash = executor.run(episode, plan)
-    again, _ = executor.run(episode, list(plan))
+    first, crash = executor.execute(episode, plan)
+    again, _ = executor.execute(episode, list(plan))
     drop = {"wall_time_s"}
     assert crash is None and again.model_dump(exclude=drop) == first.model_dump(exclude=drop)
-    other, _ = executor.run(episode, [UavStep(direction=Direction.DOWN, distance=0.1)])
+    other, _ = executor.execute(episode, [UavStep(direction=Direction.DOWN, distance=0.1)])
     assert executor.executed == 3 and other.n_steps_done == 1

@@ -37,7 +37,7 @@ def _args(cli: Cli, out: Path) -> list[str]:
     return cli.run_args(out, "oracle", TASKS, "0-1", *options)
 
 
-# The default suite's SIGKILL-and-resume test is test_replays.py's, with parallel replays.
+# The default suite's SIGKILL-and-resume test is test_executions.py's, with parallel executions.
 @pytest.mark.slow  # three runs of 40 episodes: about a minute on a 2-core machine
 def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Path) -> None:
     killed_dir = tmp_path / "killed" / "run"
@@ -129,7 +129,7 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
-def test_sigkill_of_the_run_takes_its_replay_workers_with_it(cli: Cli, tmp_path: Path) -> None:
+def test_sigkill_of_the_run_takes_its_execution_workers_with_it(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "run"
     options = ("--resolution", "32", "--batch-size", "1", "--exec-workers", "2")
     args = cli.run_args(out, "oracle", TASKS[:4], "0", *options)
@@ -139,7 +139,7 @@ def test_sigkill_of_the_run_takes_its_replay_workers_with_it(cli: Cli, tmp_path:
     try:
         deadline = time.monotonic() + 90
         workers: list[int] = []
-        # The two workers start with the first two replays, beside multiprocessing's tracker.
+        # The two workers start with the first two executions, beside multiprocessing's tracker.
         while len(workers) < 3 and proc.poll() is None and time.monotonic() < deadline:
             time.sleep(0.1)
             workers = [p for p in _children(proc.pid) if _alive(p)]
@@ -155,9 +155,9 @@ def test_sigkill_of_the_run_takes_its_replay_workers_with_it(cli: Cli, tmp_path:
             proc.kill()
 
 
-@pytest.mark.slow  # two runs with replays: over a minute on a 2-core machine
+@pytest.mark.slow  # two runs with executions: over a minute on a 2-core machine
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
-def test_sigterm_stops_a_replaying_run_like_ctrl_c(cli: Cli, tmp_path: Path) -> None:
+def test_sigterm_stops_an_executing_run_like_ctrl_c(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "stopped" / "run"
     clean_dir = tmp_path / "clean" / "run"
     options = ("--resolution", "32", "--batch-size", "1", "--exec-workers", "2")

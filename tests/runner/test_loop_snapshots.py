@@ -11,9 +11,9 @@ import vlm_bench.api as api
 from tests.runner.test_closed_loop import Hopper
 from vlm_bench.episodes import make_episode
 from vlm_bench.executor import live_snapshot
-from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, replay_rounds
+from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, execute_rounds
 from vlm_bench.types.closed_loop import PerturbConfig
-from vlm_bench.types.execution import ExecutorConfig, ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions, ExecutorConfig
 from vlm_bench.types.plan import ArmStep
 from vlm_bench.types.run import RunConfig
 
@@ -26,13 +26,13 @@ def test_a_replan_from_the_snapshot_equals_one_from_re_execution() -> None:
     plan = tuple(episode.gt_plan)
     pick = next(i for i, s in enumerate(plan) if isinstance(s, ArmStep) and s.skill == "pick")
     perturb = PerturbConfig(slip=0.5, bump=0.5)
-    first = replay_rounds(
+    first = execute_rounds(
         LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), (plan[: pick + 1],), SHOW)
     )
     assert first.snapshot is not None and first.state is not None  # goals unmet: a replan
     rounds = (plan[: pick + 1], plan[pick + 1 :])
-    again = replay_rounds(LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), rounds, SHOW))
-    resumed = replay_rounds(
+    again = execute_rounds(LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), rounds, SHOW))
+    resumed = execute_rounds(
         LoopJob(TASK, 0, ExecutorConfig(perturb=perturb), rounds, SHOW, first.snapshot)
     )
     assert len(again.executions) == 2 and len(resumed.executions) == 1  # the last round only
@@ -48,7 +48,7 @@ def test_a_replan_from_the_snapshot_equals_one_from_re_execution() -> None:
 
 def test_no_snapshot_where_no_replan_follows() -> None:
     plan = tuple(make_episode(TASK, 0).gt_plan)
-    last = replay_rounds(LoopJob(TASK, 0, ExecutorConfig(), (plan[:1],), None))
+    last = execute_rounds(LoopJob(TASK, 0, ExecutorConfig(), (plan[:1],), None))
     assert not last.executions[-1].exec_success and last.snapshot is None
 
 
@@ -62,7 +62,7 @@ def _records(out: Path) -> list[dict[str, object]]:
         loop="closed",
         max_rounds=2,
     )
-    run = api.run(config=config, out=out, backend=Hopper(), replay=ReplayOptions(workers=0))
+    run = api.run(config=config, out=out, backend=Hopper(), execution=ExecutionOptions(workers=0))
     return [r.without_timing() | {"run_id": None} for r in run.records]
 
 

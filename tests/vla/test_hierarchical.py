@@ -14,7 +14,7 @@ from pydantic import ValidationError
 from vlm_bench.episodes import make_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor import SimLoop, default_skills, execute_plan
-from vlm_bench.executor.plan_replay import next_arm_step, run_move
+from vlm_bench.executor.plan_execution import execute_move, next_arm_step
 from vlm_bench.executor.references import StepReferences
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos, gripper_opening
@@ -224,7 +224,7 @@ def test_held_object_follows_the_grasp() -> None:
     episode, loop = _loop()
     assert grasped_object(loop, episode) is None
     refs = StepReferences(episode, loop.model)
-    run_move(loop, refs, episode.uav_steps()[0], next_arm_step(episode.gt_plan, 0))
+    execute_move(loop, refs, episode.uav_steps()[0], next_arm_step(episode.gt_plan, 0))
     assert default_skills(loop)["pick"](episode, PICK) is None
     assert grasped_object(loop, episode) == "gray_cube"
     loop.held = None

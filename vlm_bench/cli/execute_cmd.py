@@ -1,4 +1,4 @@
-"""The ``execute`` command: replay one plan in the simulator, print its outcome, film it."""
+"""The ``execute`` command: execute one plan in the simulator, print its outcome, film it."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from vlm_bench.cli.options import finite, parse_seed, parse_variant, writable_fi
 from vlm_bench.errors import ConfigError
 
 if TYPE_CHECKING:
-    from vlm_bench.runner.single_replay import Replay
+    from vlm_bench.runner.task_execution import ExecutedPlan
     from vlm_bench.types.plan import ArmStep, UavStep
 
 console = Console()
@@ -28,12 +28,12 @@ def _step_text(step: UavStep | ArmStep) -> str:
     return f"{step.skill} {step.object}{target}"
 
 
-def _print_replay(replay: Replay) -> None:
-    result, episode = replay.result, replay.episode
-    noise = f" · uav_noise {replay.uav_noise:g} N" if replay.uav_noise else ""
+def _print_execution(execution: ExecutedPlan) -> None:
+    result, episode = execution.result, execution.episode
+    noise = f" · uav_noise {execution.uav_noise:g} N" if execution.uav_noise else ""
     console.print(
-        f"[bold]{episode.task_id}[/] seed {episode.seed} · {replay.variant} · plan: "
-        f"{replay.source} ({len(replay.plan)} steps){noise}",
+        f"[bold]{episode.task_id}[/] seed {episode.seed} · {execution.variant} · plan: "
+        f"{execution.source} ({len(execution.plan)} steps){noise}",
         highlight=False,
     )
     table = Table(show_edge=False)
@@ -47,7 +47,7 @@ def _print_replay(replay: Replay) -> None:
     ):
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     colour = {"ok": "green", "failed": "red", "skipped": "dim"}
-    for step, outcome in zip(replay.plan, result.steps, strict=True):
+    for step, outcome in zip(execution.plan, result.steps, strict=True):
         note = outcome.reason or ""
         if outcome.collisions:
             note = (note + "; " if note else "") + "touched " + ", ".join(outcome.collisions)
@@ -62,7 +62,7 @@ def _print_replay(replay: Replay) -> None:
     console.print(table)
     goals = "  ".join(
         f"{'[green]✓' if ok else '[red]✗'}[/] {label}"
-        for label, ok in zip(replay.goal_labels, result.goals, strict=True)
+        for label, ok in zip(execution.goal_labels, result.goals, strict=True)
     )
     console.print(f"goals: {goals or 'none'}", highlight=False)
     line = f"exec_success: {'yes' if result.exec_success else 'no'}  S_task={result.s_task:.1f}"
@@ -126,8 +126,8 @@ def execute(
         bool, typer.Option("--json", help="Print the ExecutionResult JSON.")
     ] = False,
 ) -> None:
-    """Replay one plan (a file, or the GT plan) in the simulator; optionally film it."""
-    from vlm_bench.api import replay
+    """Execute one plan (a file, or the GT plan) in the simulator; optionally film it."""
+    from vlm_bench.api import execute as api_execute
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
     finite("--uav-noise", uav_noise)
@@ -136,7 +136,7 @@ def execute(
         writable_file("--video", video, make_folder=False)
     text, source = _read_plan(plan)
     route_mujoco_log()
-    result = replay(
+    result = api_execute(
         task,
         parse_seed(seed),
         text,
@@ -152,7 +152,7 @@ def execute(
     if as_json:
         typer.echo(result.result.model_dump_json(indent=1))
     else:
-        _print_replay(result)
+        _print_execution(result)
     if result.video is not None:
         print(
             f"video: {result.video} ({result.frames} frames)",

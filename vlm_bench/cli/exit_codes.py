@@ -16,7 +16,7 @@ class ExitCode(IntEnum):
     """A user or usage error, printed as one line on stderr."""
     UNANSWERED = 3
     """``run`` finished, but some episodes have no result (backend errors after retries, or
-    replays lost to the infrastructure): re-run the same command to retry them."""
+    executions lost to the infrastructure): re-run the same command to retry them."""
     INTERRUPTED = 130
     """Stopped by Ctrl-C (SIGINT): finished episodes are saved; re-run to resume."""
     TERMINATED = 143
@@ -25,7 +25,7 @@ class ExitCode(IntEnum):
 
 EXIT_CODES_HELP = (
     "Exit codes: 0 done; 1 failed or aborted; 2 user or usage error; 3 run finished with "
-    "episodes without a result (backend errors after retries, lost replays; re-run to retry); "
+    "episodes without a result (backend errors after retries, lost executions; re-run to retry); "
     "130 interrupted (Ctrl-C); 143 terminated (SIGTERM)."
 )
 """The codes in one line, for ``--help``."""

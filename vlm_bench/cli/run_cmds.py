@@ -42,7 +42,7 @@ from vlm_bench.errors import ConfigError, option_error
 
 if TYPE_CHECKING:
     from vlm_bench.api import RunResult
-    from vlm_bench.types.execution import ReplayOptions
+    from vlm_bench.types.execution import ExecutionOptions
     from vlm_bench.types.task import InstructionVariant
 
 console = Console()
@@ -50,35 +50,35 @@ ExecWorkers = Annotated[
     int | None,
     typer.Option(
         min=0,
-        help="Plans replayed at once (default: the machine's cores; 0 = one by one in this "
+        help="Plans executed at once (default: the machine's cores; 0 = one by one in this "
         "process).",
     ),
 ]
 ExecBackend = Annotated[
-    str, typer.Option(help="Where plans are replayed: process (this machine) or ray.")
+    str, typer.Option(help="Where plans are executed: process (this machine) or ray.")
 ]
 RayAddress = Annotated[
     str | None,
-    typer.Option(help="Ray cluster to replay on (--exec-backend ray; default: a local one)."),
+    typer.Option(help="Ray cluster to execute on (--exec-backend ray; default: a local one)."),
 ]
 ExecStall = Annotated[
     float | None,
     typer.Option(
         min=0.001,
-        help="Give up the replays in flight when none finishes for this long (s; default 900): "
+        help="Give up the executions in flight when none finishes for this long (s; default 900): "
         "a hung worker or a lost node; a resume runs them again.",
     ),
 ]
 
 
-def replay_options(
+def execution_options(
     workers: int | None, backend: str, address: str | None, stall_s: float | None = None
-) -> ReplayOptions:
+) -> ExecutionOptions:
     """``--exec-workers/--exec-backend/--ray-address/--exec-stall-s`` checked (before anything
     is written)."""
     import importlib.util
 
-    from vlm_bench.types.execution import ReplayOptions
+    from vlm_bench.types.execution import ExecutionOptions
 
     if backend not in ("process", "ray"):
         raise ConfigError(f"unknown --exec-backend {backend!r}; use process or ray")
@@ -87,11 +87,11 @@ def replay_options(
     if backend == "ray" and importlib.util.find_spec("ray") is None:
         raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'")
     if backend == "ray":
-        from vlm_bench.runner.replays_ray import check_ray_address
+        from vlm_bench.runner.executions_ray import check_ray_address
 
         check_ray_address(address)
     kind: Literal["process", "ray"] = "ray" if backend == "ray" else "process"
-    options = ReplayOptions(workers=workers, backend=kind, ray_address=address)
+    options = ExecutionOptions(workers=workers, backend=kind, ray_address=address)
     if stall_s is None:
         return options
     return options.model_copy(update={"stall_s": finite("--exec-stall-s", stall_s)})
@@ -142,7 +142,7 @@ def _print_summary(result: RunResult) -> None:
         first = unanswered[0]
         console.print(
             f"[yellow]{len(unanswered)} of {len(result.records)} episode(s) have no result "
-            f"(the backend failed after its retries, or a replay was lost; e.g. {first.key}: "
+            f"(the backend failed after its retries, or an execution was lost; e.g. {first.key}: "
             f"{first.backend_error}); re-run the same command to retry them[/]",
             soft_wrap=True,
             highlight=False,
@@ -280,7 +280,7 @@ def run(
         history=history,
         perturb=perturbations,
     )
-    replay = replay_options(exec_workers, exec_backend, ray_address, exec_stall_s)
+    execution = execution_options(exec_workers, exec_backend, ray_address, exec_stall_s)
     run_dir = run_dir_for(config, out, run_name)
     try:
         result = api_run(
@@ -288,7 +288,7 @@ def run(
             out=run_dir,
             snapshot_cache=not no_snapshot_cache,
             progress=progress,
-            replay=replay,
+            execution=execution,
         )
     except KeyboardInterrupt as exc:
         from vlm_bench.runner.interrupt import Terminated
@@ -320,12 +320,12 @@ def rescore(
     from vlm_bench.resources import results_dir
     from vlm_bench.sim.mujoco_log import route_mujoco_log
 
-    route_mujoco_log()  # rescoring replays plans
+    route_mujoco_log()  # rescoring executes plans
     path = Path(run_dir)
     if not path.exists() and (results_dir() / run_dir).exists():
         path = results_dir() / run_dir
-    replay = replay_options(exec_workers, exec_backend, ray_address)
-    result = api_rescore(path, progress=progress, replay=replay)
+    execution = execution_options(exec_workers, exec_backend, ray_address)
+    result = api_rescore(path, progress=progress, execution=execution)
     _print_summary(result)
     console.print(f"{result.stats.changed} record(s) changed", highlight=False)
     if result.stats.torn_bytes:

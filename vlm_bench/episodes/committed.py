@@ -2,7 +2,7 @@
 drift test keeps it equal to :func:`~vlm_bench.episodes.make_episode`'s), other seeds are drawn.
 
 Drawing an episode judges many candidate layouts (reach, clearances, view legibility); reading
-the committed one is what a run, a rescore or a replay needs.
+the committed one is what a run, a rescore or an execution needs.
 """
 
 from __future__ import annotations

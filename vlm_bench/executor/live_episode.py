@@ -3,7 +3,7 @@
 Each :meth:`LiveEpisode.execute` runs a plan's steps from the current state, stopping at the
 first failure, lets the scene settle, checks the task's goals and scores the round; the next
 call continues the same simulation (the closed loop's replans, docs/design.md#closed-loop).
-A single call on a fresh episode is :func:`~vlm_bench.executor.plan_replay.execute_plan`.
+A single call on a fresh episode is :func:`~vlm_bench.executor.plan_execution.execute_plan`.
 Non-targets' displacement is measured from the episode's start, the simulated time is the
 episode's clock, and the perturbations a round lists are those that fired in it.
 """
@@ -18,15 +18,15 @@ import numpy as np
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.executor.goals import check_goals, describe_goal
 from vlm_bench.executor.perturb import Perturber
-from vlm_bench.executor.replay_steps import (
-    SkillFactory,
-    StepRunner,
-    episode_scene,
-    replay_steps,
-    target_ids,
-)
 from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
 from vlm_bench.executor.skills.scripted_skills import default_skills
+from vlm_bench.executor.step_execution import (
+    PlanExecution,
+    SkillFactory,
+    episode_scene,
+    execute_steps,
+    target_ids,
+)
 from vlm_bench.executor.vla_metrics import vla_scores
 from vlm_bench.sim.scene import Scene
 from vlm_bench.types.base import FloatArray
@@ -74,7 +74,7 @@ class LiveEpisode:
         self.loop.observers.extend(observers)
         perturb = self.config.perturb
         self.perturber = Perturber(perturb, episode) if perturb is not None else None
-        self.runner = StepRunner(episode, self.loop, arm_skills(self.loop), self.perturber)
+        self.execution = PlanExecution(episode, self.loop, arm_skills(self.loop), self.perturber)
         movable = [o.id for o in episode.objects if object_kind(o.kind).movable]
         self.start: dict[str, FloatArray] = {
             i: np.array(self.loop.data.body(i).xpos) for i in movable
@@ -98,7 +98,7 @@ class LiveEpisode:
         fired = len(self.perturber.events) if self.perturber is not None else 0
         loop = self.loop
         loop.deadline = loop.time + self.config.sim_budget_s(len(plan))
-        outcomes, failure = replay_steps(self.runner, plan)
+        outcomes, failure = execute_steps(self.execution, plan)
         loop.deadline = None  # settling is bounded by settle_s
         try:
             loop.hold(self.config.settle_s)

@@ -1,4 +1,4 @@
-"""Video of a plan replay: an observer that renders one camera every few control steps and
+"""Video of a plan execution: an observer that renders one camera every few control steps and
 streams the frames to an MP4 (imageio-ffmpeg, the ``video`` extra) or a GIF (Pillow).
 
 Frames are rendered with :class:`~vlm_bench.sim.render.SnapshotRenderer` every ``stride``

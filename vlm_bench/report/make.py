@@ -152,8 +152,8 @@ def _add_sections(report: Report) -> None:
                 failures,
                 by,
                 "Execution failures",
-                "Percent of executed episodes (answered, in runs that replay plans) whose replay "
-                "failed, by failure code (no_plan: the answer held no plan to execute).",
+                "Percent of executed episodes (answered, in runs that execute plans) whose "
+                "execution failed, by failure code (no_plan: the answer held no plan to execute).",
             )
         )
     blind = loc_over_blind_run(frame, "run", first, options.n_boot, options.seed)

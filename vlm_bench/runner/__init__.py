@@ -1,5 +1,5 @@
 """The episode pipeline and run folders: run, resume, rescore (see :func:`run_benchmark`), and
-single-plan replays (:func:`replay_plan`)."""
+single-plan executions (:func:`execute_task_plan`)."""
 
 from vlm_bench.runner.benchmark_run import run_benchmark
 from vlm_bench.runner.cached_snapshots import SnapshotSource

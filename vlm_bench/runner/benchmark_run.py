@@ -15,11 +15,11 @@ from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
 from vlm_bench.runner.cached_snapshots import SnapshotSource, check_resolution
 from vlm_bench.runner.episode_request import run_snapshots
+from vlm_bench.runner.executions import Executions, make_pool
 from vlm_bench.runner.interrupt import deferred_interrupt
-from vlm_bench.runner.loop_replays import LoopReplays
+from vlm_bench.runner.loop_executions import LoopExecutions
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
-from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.runner.selection import select_episodes
 from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.storage import (
@@ -32,7 +32,7 @@ from vlm_bench.storage import (
 )
 from vlm_bench.storage.provenance import machine
 from vlm_bench.types.benchmark_version import require_current_version
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.records import EpisodeRecord, utc_now
 from vlm_bench.types.run import RunConfig, RunManifest
 
@@ -127,19 +127,19 @@ def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[Snap
         source.close()
 
 
-def _replays(
+def _executions(
     config: RunConfig,
-    options: ReplayOptions | None,
+    options: ExecutionOptions | None,
     on_change: Callable[[int, int, int, int], None],
-) -> Replays | LoopReplays | None:
-    """Where the run's plans execute: closed-loop episodes, or one replay per plan."""
+) -> Executions | LoopExecutions | None:
+    """Where the run's plans execute: closed-loop episodes, or one execution per plan."""
     if not config.execute:
         return None
-    options = options or ReplayOptions()
+    options = options or ExecutionOptions()
     pool = make_pool(options)
     if config.loop == "closed":
-        return LoopReplays(pool, config, on_change, options.stall_s)
-    return Replays(pool, config.executor_config(), on_change, options.stall_s)
+        return LoopExecutions(pool, config, on_change, options.stall_s)
+    return Executions(pool, config.executor_config(), on_change, options.stall_s)
 
 
 def run_benchmark(
@@ -149,7 +149,7 @@ def run_benchmark(
     backend: Backend | None = None,
     snapshot_cache: Path | bool | None = True,
     progress: bool = True,
-    replay: ReplayOptions | None = None,
+    execution: ExecutionOptions | None = None,
 ) -> RunOutcome:
     """Evaluate the configuration's episodes into ``run_dir``, resuming what is there.
 
@@ -160,7 +160,7 @@ def run_benchmark(
         snapshot_cache: Folder of the shared PNG cache; True = the default
             (:func:`~vlm_bench.storage.default_snapshot_cache`), False/None = no cache.
         progress: Show progress on stderr.
-        replay: Where plans are replayed (default: one worker process per core, overlapped
+        execution: Where plans are executed (default: one worker process per core, overlapped
             with generation).
 
     A start that fails before any episode is written removes the folder it created, so the
@@ -194,9 +194,9 @@ def run_benchmark(
         RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
-        replays = _replays(config, replay, shown.replays_changed)
+        executions = _executions(config, execution, shown.executions_changed)
         try:
-            pipeline = EpisodePipeline(config, store, lazy, snapshots, shown, stop, replays)
+            pipeline = EpisodePipeline(config, store, lazy, snapshots, shown, stop, executions)
             stats = pipeline.run(refs)
         finally:
             lazy.close()

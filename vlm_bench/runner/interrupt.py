@@ -2,7 +2,7 @@
 
 A ``KeyboardInterrupt`` raised by Python's default handler can surface inside a C++ binding
 (MuJoCo's pybind11 argument conversion turns it into a ``TypeError``), so the first Ctrl-C
-(SIGINT) or SIGTERM only sets a flag that the pipeline checks between batches, between replays
+(SIGINT) or SIGTERM only sets a flag that the pipeline checks between batches, between executions
 and while it waits for one; a second one interrupts at once. SIGTERM (what ``kill``, schedulers
 and container runtimes send) stops a run as Ctrl-C does, raising :class:`Terminated`.
 """

@@ -66,7 +66,7 @@ class LiveState:
 
 
 @dataclass(frozen=True)
-class RoundsReplayed:
+class RoundsExecuted:
     """Each round's execution and, where asked and the last round failed, the state."""
 
     executions: tuple[ExecutionSummary, ...]
@@ -77,7 +77,7 @@ class RoundsReplayed:
     """The live episode frozen after the last round, where ``state`` is given (to continue)."""
 
 
-def replay_rounds(job: LoopJob) -> RoundsReplayed:
+def execute_rounds(job: LoopJob) -> RoundsExecuted:
     """Execute ``job``'s rounds in this process (see module doc); the executions returned
     are those of the rounds it executed (the last only, where it started from a snapshot)."""
     from vlm_bench.episodes import get_episode
@@ -102,11 +102,11 @@ def replay_rounds(job: LoopJob) -> RoundsReplayed:
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
             summary = crash_summary(exc, 0.0)
             executions.append(summary)
-            return RoundsReplayed(tuple(executions), None, summary.failure_reason)
+            return RoundsExecuted(tuple(executions), None, summary.failure_reason)
     state, snapshot = None, None
     if job.state is not None and not executions[-1].exec_success:
         snapshot = freeze(live)  # before rendering, which must not reach the continuation
         now = episode_now(live)
         images = render_now(live, now, job.state.views, job.state.size, job.state.labels)
         state = LiveState(now, live.held, images)
-    return RoundsReplayed(tuple(executions), state, snapshot=snapshot)
+    return RoundsExecuted(tuple(executions), state, snapshot=snapshot)

@@ -1,6 +1,6 @@
-"""Jobs in flight on a replay pool (docs/design.md#runs): the bookkeeping open-loop replays
-(:class:`~vlm_bench.runner.replays.Replays`) and closed-loop episodes
-(:class:`~vlm_bench.runner.loop_replays.LoopReplays`) share.
+"""Jobs in flight on an execution pool (docs/design.md#runs): the bookkeeping open-loop executions
+(:class:`~vlm_bench.runner.executions.Executions`) and closed-loop episodes
+(:class:`~vlm_bench.runner.loop_executions.LoopExecutions`) share.
 
 Each job is sent once per key (identical jobs share one future). A worker process that dies
 breaks its whole pool: the pool is restarted and the jobs in flight are sent again, each at
@@ -17,7 +17,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 from typing import Generic, TypeVar
 
-from vlm_bench.runner.replay_pools import ReplayPool, broken_future
+from vlm_bench.runner.execution_pools import ExecutionPool, broken_future
 
 MAX_ATTEMPTS = 3
 """Times a job is sent again after its worker process died (a pool breaks as a whole, so the
@@ -54,18 +54,16 @@ class PendingJobs(Generic[O, J, R]):
         send: Starts a job on the pool.
         key: A job's identity (equal keys share one execution).
         stall_s: Longest time with jobs in flight and none finishing (s).
-        noun: What a job is called in the stall message (``replay``, ``execution``).
         keep_done: Keep finished jobs' results for later identical jobs (small results); else
             a result is dropped once no job in flight shares it (results holding snapshots).
     """
 
     def __init__(
         self,
-        pool: ReplayPool,
+        pool: ExecutionPool,
         send: Callable[[J], Future[R]],
         key: Callable[[J], str],
         stall_s: float,
-        noun: str,
         keep_done: bool = True,
     ) -> None:
         self.pool = pool
@@ -73,7 +71,6 @@ class PendingJobs(Generic[O, J, R]):
         self.items: list[Pending[O, J, R]] = []
         self._send = send
         self._key = key
-        self._noun = noun
         self._keep_done = keep_done
         self._futures: dict[str, Future[R]] = {}
         self._last_progress = time.monotonic()
@@ -132,7 +129,7 @@ class PendingJobs(Generic[O, J, R]):
 
     def _abandon(self, stalled: list[Pending[O, J, R]]) -> None:
         self.pool.abandon()
-        reason = f"no {self._noun} finished for {self.stall_s:g} s (a hung worker or a lost node)"
+        reason = f"no execution finished for {self.stall_s:g} s (a hung worker or a lost node)"
         for p in stalled:
             p.future = failed(TimeoutError(reason))
         self._futures.clear()

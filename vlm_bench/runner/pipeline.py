@@ -3,11 +3,12 @@ execute → record.
 
 Bad model output is scored (and its valid plan executed when the run executes plans), a failed
 generation is recorded as an ``error`` record (a resume retries it), and every record is durable
-as soon as it is written. Plans execute off the generation path (:mod:`vlm_bench.runner.replays`):
-while worker processes replay one batch's plans the backend generates the next, and each record
-is written once, with its execution, when its replay finishes. Answers are cached before their
-records, keyed by episode and prompt hash, so an interrupt (Ctrl-C, or a kill) loses only
-replays: a resume scores the cached answers again and re-executes what has no record.
+as soon as it is written. Plans execute off the generation path
+(:mod:`vlm_bench.runner.executions`): while worker processes execute one batch's plans the backend
+generates the next, and each record is written once, with its execution, when its execution
+finishes. Answers are cached before their records, keyed by episode and prompt hash, so an
+interrupt (Ctrl-C, or a kill) loses only executions: a resume scores the cached answers again
+and re-executes what has no record.
 """
 
 from __future__ import annotations
@@ -21,10 +22,10 @@ from vlm_bench.errors import VlmBenchError
 from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.episode_request import episode_request
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
+from vlm_bench.runner.executions import Executions
 from vlm_bench.runner.interrupt import StopFlag
-from vlm_bench.runner.loop_replays import Ask, LoopReplays
+from vlm_bench.runner.loop_executions import Ask, LoopExecutions
 from vlm_bench.runner.progress import RunProgress
-from vlm_bench.runner.replays import Replays
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
@@ -34,7 +35,7 @@ from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
 from vlm_bench.types.run import RunConfig
 
 STOP_POLL_S = 0.2
-"""Longest wait for a replay before the stop flag (Ctrl-C, SIGTERM) is read again (s)."""
+"""Longest wait for an execution before the stop flag (Ctrl-C, SIGTERM) is read again (s)."""
 
 
 @dataclass
@@ -91,7 +92,7 @@ class EpisodePipeline:
         snapshots: SnapshotSource,
         progress: RunProgress | None = None,
         stop: StopFlag | None = None,
-        replays: Replays | LoopReplays | None = None,
+        executions: Executions | LoopExecutions | None = None,
     ) -> None:
         """Set up the pipeline of one run.
 
@@ -102,10 +103,10 @@ class EpisodePipeline:
                 resume of a finished run never loads the model.
             snapshots: Source of snapshot PNGs.
             progress: Shows generation and execution as they go.
-            stop: Checked between batches and replays; a requested stop raises
-                ``KeyboardInterrupt`` after the finished episodes are written (replays in
+            stop: Checked between batches and executions; a requested stop raises
+                ``KeyboardInterrupt`` after the finished episodes are written (executions in
                 flight are dropped: a resume runs them again).
-            replays: Where plans execute, when the run executes plans (the pipeline closes
+            executions: Where plans execute, when the run executes plans (the pipeline closes
                 it): closed-loop episodes replan through it; None = the run does not
                 execute plans.
         """
@@ -117,7 +118,7 @@ class EpisodePipeline:
         self.stats = PipelineStats()
         self._episode: Episode | None = None
         self.stop = stop or StopFlag()
-        self.replays = replays if config.execute else None
+        self.executions = executions if config.execute else None
 
     def run(self, refs: Sequence[EpisodeRef]) -> PipelineStats:
         """Evaluate every episode of ``refs`` that has no ok record yet."""
@@ -129,28 +130,28 @@ class EpisodePipeline:
             for batch in _chunks(pending, self.config.generation.batch_size):
                 self.stop.check()
                 self._run_batch([self._prepare(ref) for ref in batch])
-                self._write_replayed(block=False)
+                self._write_executed(block=False)
                 self._run_replans()
-            while self.replays is not None and self.replays.in_flight:
+            while self.executions is not None and self.executions.in_flight:
                 self.stop.check()
-                self._write_replayed(block=True)  # waits at most STOP_POLL_S
+                self._write_executed(block=True)  # waits at most STOP_POLL_S
                 self._run_replans()
         except BaseException:
-            if self.replays is not None:
-                self.replays.close(cancel=True)
+            if self.executions is not None:
+                self.executions.close(cancel=True)
             raise
-        if self.replays is not None:
-            self.replays.close()
+        if self.executions is not None:
+            self.executions.close()
         return self.stats
 
-    def _write_replayed(self, block: bool) -> None:
-        """Write the records whose replays finished (``block``: wait up to
+    def _write_executed(self, block: bool) -> None:
+        """Write the records whose executions finished (``block``: wait up to
         :data:`STOP_POLL_S` for one)."""
-        if self.replays is None:
+        if self.executions is None:
             return
-        for record in self.replays.collect(block=block, timeout=STOP_POLL_S):
+        for record in self.executions.collect(block=block, timeout=STOP_POLL_S):
             self._write(record)
-        r = self.replays.stats
+        r = self.executions.stats
         self.stats.executed = r.executed
         self.stats.exec_crashes = r.crashes
         self.stats.exec_crash_messages = list(r.crash_messages)
@@ -159,33 +160,33 @@ class EpisodePipeline:
         """Generate the replans closed-loop episodes wait for (answers cached first, keyed by
         each round's prompt hash) and send them on; a failed generation writes the episode's
         error record (a resume runs it again)."""
-        replays = self.replays
-        if not isinstance(replays, LoopReplays):
+        executions = self.executions
+        if not isinstance(executions, LoopExecutions):
             return
-        asks = replays.requests()
+        asks = executions.requests()
         for start in range(0, len(asks), self.config.generation.batch_size):
             self.stop.check()
             chunk = asks[start : start + self.config.generation.batch_size]
             misses = [a for a in chunk if self.store.cached_response(a.key, a.prompt_hash) is None]
             results = self._generate([a.request for a in misses])
             for ask in chunk:
-                record = self._answer(replays, ask, results)
+                record = self._answer(executions, ask, results)
                 if record is not None:
                     self._write(record)
 
     def _answer(
-        self, replays: LoopReplays, ask: Ask, results: dict[str, GenerationResult]
+        self, executions: LoopExecutions, ask: Ask, results: dict[str, GenerationResult]
     ) -> EpisodeRecord | None:
         cached = self.store.cached_response(ask.key, ask.prompt_hash)
         if cached is not None:
             self.stats.cached += 1
-            return replays.answer(ask, cached, cached=True)
+            return executions.answer(ask, cached, cached=True)
         result = results[ask.request.id]
         if result.error is not None:
             self.stats.errors += 1
             if len(self.stats.error_messages) < 5:
                 self.stats.error_messages.append(f"{ask.request.id}: {result.error}")
-            return replays.fail(ask, result.error, result.latency_s)
+            return executions.fail(ask, result.error, result.latency_s)
         response = CachedResponse(
             key=ask.key,
             prompt_hash=ask.prompt_hash,
@@ -193,7 +194,7 @@ class EpisodePipeline:
             **usage_of(result),
         )
         self.store.append_response(response)
-        return replays.answer(ask, response, cached=False)
+        return executions.answer(ask, response, cached=False)
 
     def _write(self, record: EpisodeRecord) -> None:
         self.store.append_record(record)
@@ -267,14 +268,14 @@ class EpisodePipeline:
             self.progress.generated(1)
             if record.ok:
                 self.stats.scored += 1
-                if self.replays is not None:
+                if self.executions is not None:
                     self.stop.check()
                     finished = (
-                        self.replays.submit(p.episode, record, p.request)
-                        if isinstance(self.replays, LoopReplays)
-                        else self.replays.submit(p.episode, record)
+                        self.executions.submit(p.episode, record, p.request)
+                        if isinstance(self.executions, LoopExecutions)
+                        else self.executions.submit(p.episode, record)
                     )
                     if finished is None:
-                        continue  # written when its replay finishes
+                        continue  # written when its execution finishes
                     record = finished
             self._write(record)

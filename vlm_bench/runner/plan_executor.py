@@ -1,4 +1,4 @@
-"""Replay the plans of a run's records in the simulator (runs and rescore; docs/design.md#runs).
+"""Execute the plans of a run's records in the simulator (runs and rescore; docs/design.md#runs).
 
 The executable plan of a record is its parse's valid steps (what ``record.plan`` holds); an
 output with no usable plan is not executed (``execution`` stays None and the episode counts as
@@ -48,7 +48,7 @@ def crash_summary(exc: Exception, wall_time_s: float) -> ExecutionSummary:
 
 class PlanExecutor:
     """Executes plans with one :class:`ExecutorConfig`; compiles each episode's scene once
-    and executes on copies (a worker keeps one per config: :func:`.replays.replay`).
+    and executes on copies (a worker keeps one per config: :func:`.execution_jobs.execute_job`).
 
     Identical plans are not de-duplicated here: the runner sends each (episode, plan) once.
     """
@@ -61,14 +61,14 @@ class PlanExecutor:
 
     def scene(self, episode: Episode) -> Scene:
         """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
-        from vlm_bench.executor.plan_replay import episode_scene
+        from vlm_bench.executor.plan_execution import episode_scene
 
         key = (episode.task_id, episode.seed)
         if self._template is None or self._template[0] != key:
             self._template = (key, episode_scene(episode, self.config))
         return self._template[1].copy()
 
-    def run(
+    def execute(
         self, episode: Episode, steps: list[UavStep | ArmStep]
     ) -> tuple[ExecutionSummary, str | None]:
         """Execute ``steps`` on the episode: the summary and, where the executor raised, the

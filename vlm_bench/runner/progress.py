@@ -52,7 +52,7 @@ def _clock(seconds: float) -> str:
 
 
 class RunProgress:
-    """Progress of a run: episodes written (with an ETA), answers generated, and replays done /
+    """Progress of a run: episodes written (with an ETA), answers generated, and executions done /
     running / queued. On a terminal: rich bars on stderr; elsewhere (a log file, CI): one line
     every ``every`` episodes written, and one at the end.
 
@@ -82,8 +82,8 @@ class RunProgress:
         """Episodes written (or already done when the run resumed)."""
         self.generated_n = 0
         """Episodes answered (or already done)."""
-        self.replays = (0, 0, 0, 0)
-        """Replays: (submitted, finished, running, queued)."""
+        self.executions = (0, 0, 0, 0)
+        """Executions: (submitted, finished, running, queued)."""
         self._start = time.monotonic()
         self._start_done = 0
         self._last_line = 0
@@ -104,7 +104,7 @@ class RunProgress:
             self._bar.start()
             self._rows = {
                 name: self._bar.add_task(name, total=self.total, note="")
-                for name in (f"{self.label} episodes", "  generated", "  replays")
+                for name in (f"{self.label} episodes", "  generated", "  executions")
             }
         return self
 
@@ -136,9 +136,9 @@ class RunProgress:
             self._last_line = self.done
             self.console.print(self.line(), highlight=False, soft_wrap=True)
 
-    def replays_changed(self, submitted: int, finished: int, running: int, queued: int) -> None:
-        """The replay pool's counts changed."""
-        self.replays = (submitted, finished, running, queued)
+    def executions_changed(self, submitted: int, finished: int, running: int, queued: int) -> None:
+        """The execution pool's counts changed."""
+        self.executions = (submitted, finished, running, queued)
         self._update()
 
     # ---- display --------------------------------------------------------------------------
@@ -152,12 +152,12 @@ class RunProgress:
 
     def line(self) -> str:
         """The plain progress line."""
-        submitted, finished, running, queued = self.replays
+        submitted, finished, running, queued = self.executions
         eta = self.eta_s()
         parts = [
             f"{self.label} {self.done}/{self.total} episodes".strip(),
             f"generated {self.generated_n}/{self.total}",
-            f"replays {finished}/{submitted} done, {running} running, {queued} queued",
+            f"executions {finished}/{submitted} done, {running} running, {queued} queued",
             f"elapsed {_clock(time.monotonic() - self._start)}",
             f"eta {_clock(eta) if eta is not None else '?'}",
         ]
@@ -169,12 +169,12 @@ class RunProgress:
 
     def _refresh(self) -> None:
         assert self._bar is not None
-        submitted, finished, running, queued = self.replays
-        episodes, generated, replays = self._rows.values()
+        submitted, finished, running, queued = self.executions
+        episodes, generated, executions = self._rows.values()
         self._bar.update(episodes, completed=self.done)
         self._bar.update(generated, completed=self.generated_n)
         self._bar.update(
-            replays,
+            executions,
             completed=finished,
             total=max(submitted, 1),
             note=f"{running} running, {queued} queued",

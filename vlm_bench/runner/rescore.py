@@ -9,13 +9,13 @@ from pathlib import Path
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
+from vlm_bench.runner.executions import Executions, make_pool
 from vlm_bench.runner.progress import progress_bar
-from vlm_bench.runner.replays import Replays, make_pool
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.benchmark_version import require_current_version
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord, OutputScore, usage_of
 from vlm_bench.types.run import RunManifest
@@ -52,13 +52,13 @@ def _response(store: RunStore, record: EpisodeRecord) -> CachedResponse:
 
 
 def rescore_run(
-    run_dir: Path, *, progress: bool = False, replay: ReplayOptions | None = None
+    run_dir: Path, *, progress: bool = False, execution: ExecutionOptions | None = None
 ) -> RescoreOutcome:
     """Re-parse and re-score every answered episode of a run with the current code.
 
     Uses the run's own scoring configuration and the response cache; error records are kept
     as they are (a resume retries them). When the run executes plans, every plan is executed
-    again with the run's ``uav_noise``, in the pool ``replay`` asks for (default: one worker
+    again with the run's ``uav_noise``, in the pool ``execution`` asks for (default: one worker
     process per core; identical plans on one episode run once). ``records.jsonl`` is rewritten
     atomically, one line per episode in the order it had, keeping each record's timing and
     token counts. A torn last line (a crash mid-write) is cut off and counted in
@@ -67,7 +67,7 @@ def rescore_run(
     Args:
         run_dir: The run folder.
         progress: Show a progress bar on stderr.
-        replay: Where plans are replayed.
+        execution: Where plans are executed.
 
     Raises:
         NotARunError: ``run_dir`` has no manifest.
@@ -87,9 +87,9 @@ def rescore_run(
         label = f"rescore {store.paths.run_id}"
         records = list(store.records.values())
         done: dict[str, EpisodeRecord] = {}
-        options = replay or ReplayOptions()
-        replays = (
-            Replays(make_pool(options), config.executor_config(), stall_s=options.stall_s)
+        options = execution or ExecutionOptions()
+        executions = (
+            Executions(make_pool(options), config.executor_config(), stall_s=options.stall_s)
             if config.execute
             else None
         )
@@ -102,24 +102,24 @@ def rescore_run(
                         if ep_key not in episodes:
                             episodes[ep_key] = get_episode(record.task_id, record.seed)
                         new = _rescored(store, record, episodes[ep_key], config.scoring)
-                        if replays is not None:
-                            finished = replays.submit(episodes[ep_key], new)
+                        if executions is not None:
+                            finished = executions.submit(episodes[ep_key], new)
                             if finished is None:
                                 continue
                             new = finished
                     done[record.key] = new
                     advance(1)
-                for new in replays.drain() if replays is not None else ():
+                for new in executions.drain() if executions is not None else ():
                     done[new.key] = new
                     advance(1)
         finally:
-            if replays is not None:
-                replays.close()
+            if executions is not None:
+                executions.close()
         out = [done[record.key] for record in records]
         pairs = zip(out, records, strict=True)
         changed = sum(new.without_timing() != old.without_timing() for new, old in pairs)
         store.rewrite_records(out)
-        executed = replays.stats.executed if replays is not None else 0
+        executed = executions.stats.executed if executions is not None else 0
         return RescoreOutcome(
             store.paths.root,
             store.manifest,
@@ -133,7 +133,7 @@ def rescore_run(
 def _rescored(
     store: RunStore, record: EpisodeRecord, episode: Episode, scoring: ScoringConfig
 ) -> EpisodeRecord:
-    """The record recomputed from its cached answer (its execution is replayed separately)."""
+    """The record recomputed from its cached answer (its execution is executed separately)."""
     info = EpisodeInfo(
         record.run_id,
         record.key,

@@ -60,7 +60,7 @@ class RunViews:
         allowed or the record has no such round."""
         from vlm_bench.episodes import get_episode
         from vlm_bench.parsing import parse_plan
-        from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, replay_rounds
+        from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, execute_rounds
         from vlm_bench.runner.plan_executor import record_plan
 
         first = record_plan(record)
@@ -75,7 +75,7 @@ class RunViews:
         state = StateRequest(VIEWS, config.resolution, config.labels)
         rounds = tuple(plans[:round_index])
         job = LoopJob(record.task_id, record.seed, config.executor_config(), rounds, state)
-        shown = replay_rounds(job).state
+        shown = execute_rounds(job).state
         return dict(shown.images) if shown is not None else {}
 
     def close(self) -> None:

@@ -1,6 +1,6 @@
 """Worker processes die with the process that started them.
 
-A replay worker whose run was killed (SIGKILL, an out-of-memory kill, a crash) must not live on
+An execution worker whose run was killed (SIGKILL, an out-of-memory kill, a crash) must not live on
 under PID 1 holding its memory. On Linux the kernel sends the worker SIGKILL when its parent
 exits (``prctl(PR_SET_PDEATHSIG)``); elsewhere a daemon thread of the worker checks every
 :data:`POLL_S` seconds that its parent is still the process that started it, and exits when it

@@ -22,7 +22,7 @@ StepStatus = Literal["ok", "failed", "skipped"]
 
 
 class FailureCode(StrEnum):
-    """Why a plan step, or a whole replay, failed: one code per kind of failure reason."""
+    """Why a plan step, or a whole execution, failed: one code per kind of failure reason."""
 
     UNKNOWN_OBJECT = "unknown_object"
     """The step names an object or part the scene does not have."""
@@ -65,7 +65,7 @@ class FailureCode(StrEnum):
     EXECUTOR_CRASH = "executor_crash"
     """The executor raised (or its worker died); the runner records it and carries on."""
     SIM_BUDGET = "sim_budget"
-    """The replay used up its simulated-time budget (:meth:`ExecutorConfig.sim_budget_s`)."""
+    """The execution used up its simulated-time budget (:meth:`ExecutorConfig.sim_budget_s`)."""
 
 
 @dataclass(frozen=True)
@@ -162,7 +162,7 @@ class ExecutorConfig(Frozen):
         default=None, description="Seeded perturbations to fire (``--perturb``); None: none."
     )
     budget_base_s: float = Field(
-        default=60.0, gt=0, description="Simulated time every replay may use (s)."
+        default=60.0, gt=0, description="Simulated time every execution may use (s)."
     )
     budget_per_step_s: float = Field(
         default=40.0, ge=0, description="Simulated time each plan step adds to the budget (s)."
@@ -173,12 +173,12 @@ class ExecutorConfig(Frozen):
         return episode_noise_seed(task_id, seed) if self.noise_seed is None else self.noise_seed
 
     def sim_budget_s(self, n_steps: int) -> float:
-        """The simulated time a replay of ``n_steps`` steps may use before settling (s).
+        """The simulated time an execution of ``n_steps`` steps may use before settling (s).
 
         ``budget_base_s + budget_per_step_s × n_steps``. GT steps take up to 26 s of simulated
         time (docs/decisions.md), and a policy-driven ARM step ends at 30 s
         (:data:`~vlm_bench.vla.hierarchical.DEFAULT_MAX_STEPS`), so no plan that finishes comes
-        near it, while a replay that cannot finish ends in :attr:`FailureCode.SIM_BUDGET`.
+        near it, while an execution that cannot finish ends in :attr:`FailureCode.SIM_BUDGET`.
         """
         return self.budget_base_s + self.budget_per_step_s * n_steps
 
@@ -228,7 +228,7 @@ class VlaScores(FiniteFrozen):
 
 
 class ExecutionResult(FiniteFrozen):
-    """The outcome of replaying one plan."""
+    """The outcome of executing one plan."""
 
     steps: tuple[StepOutcome, ...] = Field(description="One outcome per plan step.")
     steps_ok: bool = Field(description="Every step succeeded.")
@@ -302,14 +302,14 @@ class ExecutionSummary(FiniteFrozen):
         )
 
 
-class ReplayOptions(Frozen):
-    """Where a run replays its plans (not part of its configuration: outcomes do not depend
+class ExecutionOptions(Frozen):
+    """Where a run executes its plans (not part of its configuration: outcomes do not depend
     on it)."""
 
     workers: int | None = Field(
         default=None,
         ge=0,
-        description="Replays at once: worker processes, or Ray tasks; 0 = inline, in the run's "
+        description="Executions at once: worker processes, or Ray tasks; 0 = inline, in the run's "
         "process, no overlap with generation; None = the machine's cores.",
     )
     backend: Literal["process", "ray"] = Field(
@@ -321,8 +321,8 @@ class ReplayOptions(Frozen):
     stall_s: float = Field(
         default=900.0,
         gt=0,
-        description="With replays in flight and none finishing for this long (s), those in "
-        "flight are given up as lost (a resume runs them again). Five times the longest replay "
+        description="With executions in flight and none finishing for this long (s), those in "
+        "flight are given up as lost (a resume runs them again). Five times the longest execution "
         "a plan can make (860 s simulated at a real-time factor of 5): only a hung worker or a "
         "lost node reaches it.",
     )

@@ -31,7 +31,7 @@ RECORD_SCHEMA_VERSION = 2
 RecordStatus = Literal["ok", "error"]
 """``ok``: the model answered and the answer was scored (whatever its quality);
 ``error``: the episode has no result yet: the backend failed to answer (server error, timeout)
-or the infrastructure lost its replay (a dead worker or node); a resume retries it."""
+or the infrastructure lost its execution (a dead worker or node); a resume retries it."""
 
 TIMING_FIELDS = frozenset({"latency_s", "batch_latency_s", "created"})
 """Fields that differ between two otherwise identical runs (and ``execution.wall_time_s``)."""
@@ -127,10 +127,10 @@ class EpisodeRecord(Tolerant):
     finish_reason: str | None = Field(default=None, description="Why generation stopped.")
     cached: bool = Field(default=False, description="The answer came from the response cache.")
     execution: ExecutionSummary | None = Field(
-        default=None, description="Outcome of replaying the plan (None: not executed)."
+        default=None, description="Outcome of executing the plan (None: not executed)."
     )
     backend_error: Utf8Str | None = Field(
-        default=None, description="Why an error record has no result (backend, lost replay)."
+        default=None, description="Why an error record has no result (backend, lost execution)."
     )
     status: RecordStatus = Field(description="ok or error (see RecordStatus).")
     created: datetime = Field(default_factory=utc_now, description="When it was written (UTC).")

@@ -126,7 +126,7 @@ class RunConfig(FiniteFrozen):
     )
     scoring: ScoringConfig = Field(default_factory=ScoringConfig, description="Metric options.")
     execute: bool = Field(
-        default=True, description="Replay every valid predicted plan in the simulator."
+        default=True, description="Execute every valid predicted plan in the simulator."
     )
     uav_noise: float = Field(
         default=0.0, ge=0, description="Gust force std on the UAV (N) during execution."

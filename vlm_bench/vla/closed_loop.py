@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.executor.live_state import episode_now
-from vlm_bench.executor.replay_steps import SkillFactory
 from vlm_bench.executor.skills.scripted_skills import default_skills
+from vlm_bench.executor.step_execution import SkillFactory
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult, ExecutorConfig

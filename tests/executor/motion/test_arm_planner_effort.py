@@ -14,7 +14,7 @@ from vlm_bench.episodes.generate import make_episode
 from vlm_bench.executor.motion.arm_core import ArmCore
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionChecker, CollisionQuery
-from vlm_bench.executor.plan_replay import StepRunner, execute_plan
+from vlm_bench.executor.plan_execution import PlanExecution, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
@@ -50,16 +50,16 @@ def test_counting_contacts_up_to_a_limit_stops_at_the_first_posture_over_it(
     assert hand.core.path_hits(out, stowed, query, limit=full - 1) == full
 
 
-def test_pruned_planning_replays_as_full_counting_does(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_pruned_planning_executes_as_full_counting_does(monkeypatch: pytest.MonkeyPatch) -> None:
     """standard_pick_place seed 9: the release is planned over ~800 candidates, most of them
-    with contacts; counting every contact of every candidate replays the same episode (an
+    with contacts; counting every contact of every candidate executes the same episode (an
     off-by-one in the pruning changes its simulated time)."""
     episode = incident_episode("standard_pick_place", 9)
 
-    def replay() -> dict[str, object]:
+    def execute() -> dict[str, object]:
         return execute_plan(episode, episode.gt_plan).model_dump(exclude={"wall_time_s"})
 
-    pruned = replay()
+    pruned = execute()
     hits_at = ArmCore.hits_at
 
     def every_contact(
@@ -68,7 +68,7 @@ def test_pruned_planning_replays_as_full_counting_does(monkeypatch: pytest.Monke
         return hits_at(self, postures, query)
 
     monkeypatch.setattr(ArmCore, "hits_at", every_contact)
-    assert replay() == pruned
+    assert execute() == pruned
 
 
 def test_a_contact_that_lasts_is_reported_again_after_each_take() -> None:
@@ -76,9 +76,9 @@ def test_a_contact_that_lasts_is_reported_again_after_each_take() -> None:
     ``take_collisions`` after a control step reports it, not only the first."""
     episode = make_episode("standard_pick_place", 0)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for index in range(2):  # fly there, pick
-        assert run.step(index, episode.gt_plan[index], episode.gt_plan).status == "ok"
+        assert execution.step(index, episode.gt_plan[index], episode.gt_plan).status == "ok"
     held = loop.held
     assert held is not None
     loop.take_collisions()

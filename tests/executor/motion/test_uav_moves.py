@@ -12,7 +12,7 @@ import pytest
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.episodes.gt_builder import DRAWER_PULL
 from vlm_bench.executor.motion.uav_moves import move_target
-from vlm_bench.executor.plan_replay import execute_plan, next_arm_step, run_move
+from vlm_bench.executor.plan_execution import execute_move, execute_plan, next_arm_step
 from vlm_bench.executor.references import Reference, StepReferences
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.grasping import grasp_skills
@@ -46,14 +46,14 @@ def test_gt_moves_end_at_gt_poses(task: str, seed: int) -> None:
     checked = 0
     for index, step in enumerate(plan):
         if isinstance(step, UavStep):
-            run_move(loop, refs, step, next_arm_step(plan, index))
+            execute_move(loop, refs, step, next_arm_step(plan, index))
             expected = np.array(episode.gt_uav_poses[index].pos)
             error = float(np.linalg.norm(loop.uav_position() - expected))
             assert error < GT_TOL, f"step {index} {step.direction}: {error:.3f} m from GT"
             assert loop.take_collisions() == ()
             checked += 1
         elif step.skill in ("pull", "close"):
-            # ARM skills are not replayed here; only the drawer state that later moves depend on.
+            # ARM skills are not executed here; only the drawer state that later moves depend on.
             adr = scene.model.joint(part_joint(step.object)).qposadr[0]
             scene.data.qpos[adr] = DRAWER_PULL if step.skill == "pull" else 0.0
             mujoco.mj_forward(scene.model, scene.data)

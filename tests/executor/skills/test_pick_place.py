@@ -16,7 +16,7 @@ from vlm_bench.executor.motion.arm_planner import MAX_ASSIST, WORK_RADII
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.lines import ArmLines
-from vlm_bench.executor.plan_replay import StepRunner, execute_plan
+from vlm_bench.executor.plan_execution import PlanExecution, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Picker
 from vlm_bench.executor.skills.hand import Hand
@@ -55,9 +55,9 @@ def test_planning_checks_the_held_object_too() -> None:
     episode = make_episode("standard_pick_place", 0)
     scene = build_scene(episode)
     loop = SimLoop(scene)
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the gray cube
-        assert run.step(i, step, episode.gt_plan).status == "ok"
+        assert execution.step(i, step, episode.gt_plan).status == "ok"
     arm = Hand(loop)
     tcp, rot = arm.tcp()
     bottom = float(object_bounds(scene.model, scene.data, "gray_cube", solid_only=True)[0][2])
@@ -107,13 +107,13 @@ def test_a_held_object_is_carried_clear_of_what_the_flight_stops_at() -> None:
     episode = incident_episode("store_and_close", 3)
     scene = build_scene(episode)
     loop = SimLoop(scene)
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     joint = scene.model.joint(part_joint("top_drawer")).qposadr[0]
     for i, step in enumerate(episode.gt_plan[:4]):  # fly, pick, climb, fly back to the cabinet
-        assert run.step(i, step, episode.gt_plan).status == "ok"
+        assert execution.step(i, step, episode.gt_plan).status == "ok"
     assert loop.held == "rubiks_cube"
     assert float(scene.data.qpos[joint]) > 0.34
-    outcome = run.step(4, episode.gt_plan[4], episode.gt_plan)  # place in the drawer
+    outcome = execution.step(4, episode.gt_plan[4], episode.gt_plan)  # place in the drawer
     assert outcome.status == "ok", outcome.reason
 
 
@@ -123,9 +123,9 @@ def test_the_raise_after_a_pick_keeps_off_a_whipping_straight_line() -> None:
     of the fingers. The raise now takes a straight line only where it is steady."""
     episode = incident_episode("visual_combination_blue_red", 4)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the blue cup
-        assert run.step(i, step, episode.gt_plan).status == "ok"
+        assert execution.step(i, step, episode.gt_plan).status == "ok"
     arm = Hand(loop)
     assert loop.held == "blue_cup"
     assert arm.touching_fingers("blue_cup")
@@ -157,9 +157,9 @@ def test_a_cleanser_is_held_across_its_nozzle() -> None:
     nozzle's end, the bottle comes up in the hand."""
     episode = incident_episode("function_detergent", 4)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the cleanser
-        outcome = run.step(i, step, episode.gt_plan)
+        outcome = execution.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert loop.held == "cleanser"
     assert Hand(loop).touching_fingers("cleanser")
@@ -207,9 +207,9 @@ def test_the_stow_after_a_release_climbs_clear_of_a_mug_beside_it() -> None:
 
     episode = incident_episode("color_matched_sorting", 8)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the black mug, place it
-        outcome = run.step(i, step, episode.gt_plan)
+        outcome = execution.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert not any(name.startswith("yellow_mug") for name in outcome.collisions)
     upright = float(loop.data.body("yellow_mug").xmat[8])
@@ -223,12 +223,12 @@ def test_a_flight_no_turn_clears_climbs_over_a_basket() -> None:
     the UAV climbs first and flies higher; nothing touches the basket until the place."""
     episode = incident_episode("variant_green_nut", 7)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     z0 = None
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the nut, fly to the basket
         if i == 2:
             z0 = float(loop.controller.setpoint[2])
-        outcome = run.step(i, step, episode.gt_plan)
+        outcome = execution.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert not any(name.startswith("yellow_basket") for name in outcome.collisions)
     assert z0 is not None and loop.controller.setpoint[2] > z0 + 0.1
@@ -242,9 +242,9 @@ def test_a_glide_over_a_release_keeps_a_flat_nut_in_the_fingers() -> None:
     at 0.15 m/s, slid it 1.7 cm along the pads and out. The glide now goes at 0.1 m/s."""
     episode = incident_episode("variant_green_nut", 1)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan):  # fly, descend, pick, fly, place in the basket
-        outcome = run.step(i, step, episode.gt_plan)
+        outcome = execution.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert all(check_goals(episode, loop.model, loop.data))
 
@@ -255,9 +255,9 @@ def test_a_bowl_held_by_its_rim_glides_without_turning() -> None:
     hanging that wide now glides with the hand's heading kept."""
     episode = incident_episode("stacking_nesting", 3)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, pick the bowl, place it on the plate
-        outcome = run.step(i, step, episode.gt_plan)
+        outcome = execution.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert loop.held is None
 
@@ -268,9 +268,9 @@ def test_a_nut_beside_a_bin_wall_is_picked_across_two_flats() -> None:
     air. Of the six headings across a flat pair, one is clear."""
     episode = incident_episode("contextual_spare_part", 4)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
+    execution = PlanExecution(episode, loop, default_skills(loop))
     for i, step in enumerate(episode.gt_plan[:3]):  # fly, descend, pick the nut
-        outcome = run.step(i, step, episode.gt_plan)
+        outcome = execution.step(i, step, episode.gt_plan)
         assert outcome.status == "ok", outcome.reason
     assert loop.held == "green_nut"
 
@@ -289,8 +289,8 @@ def _picker_after_the_flight(task: str, seed: int) -> tuple[Episode, Picker]:
     step (a UAV move)."""
     episode = incident_episode(task, seed)
     loop = SimLoop(build_scene(episode))
-    run = StepRunner(episode, loop, default_skills(loop))
-    assert run.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
+    execution = PlanExecution(episode, loop, default_skills(loop))
+    assert execution.step(0, episode.gt_plan[0], episode.gt_plan).status == "ok"
     return episode, Picker(Hand(loop))
 
 

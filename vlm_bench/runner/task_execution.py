@@ -1,6 +1,6 @@
-"""Replay one plan on one episode (the ``execute`` command), optionally filming it.
+"""Execute one plan on one episode (the ``execute`` command), optionally filming it.
 
-The gusts (``uav_noise``) use the same per-episode seed as runs, so replaying a run's plan here
+The gusts (``uav_noise``) use the same per-episode seed as runs, so executing a run's plan here
 reproduces the run's execution. The simulator is imported only when something is executed.
 """
 
@@ -21,7 +21,7 @@ from vlm_bench.types.task import InstructionVariant
 
 @dataclass(frozen=True)
 class VideoOptions:
-    """What to film during a replay."""
+    """What to film during an execution."""
 
     path: Path
     """Output file: ``.mp4`` (needs the ``video`` extra) or ``.gif``."""
@@ -36,7 +36,7 @@ class VideoOptions:
 
 
 @dataclass(frozen=True)
-class Replay:
+class ExecutedPlan:
     """One executed plan and what came of it."""
 
     episode: Episode
@@ -76,7 +76,7 @@ def plan_from_text(text: str, episode: Episode, source: str) -> list[UavStep | A
     return parsed.valid_steps()
 
 
-def replay_plan(
+def execute_task_plan(
     task_id: str,
     seed: int,
     plan: str | PlanSteps | None = None,
@@ -85,7 +85,7 @@ def replay_plan(
     variant: InstructionVariant = "explicit",
     uav_noise: float = 0.0,
     video: VideoOptions | None = None,
-) -> Replay:
+) -> ExecutedPlan:
     """Execute a plan on an episode.
 
     Args:
@@ -102,7 +102,7 @@ def replay_plan(
         MissingExtraError: MP4 without the ``video`` extra.
     """
     from vlm_bench.executor.goals import describe_goal
-    from vlm_bench.executor.plan_replay import episode_scene, execute_plan
+    from vlm_bench.executor.plan_execution import episode_scene, execute_plan
     from vlm_bench.executor.video import VideoRecorder
 
     if uav_noise < 0:
@@ -132,7 +132,7 @@ def replay_plan(
             scene,
             observers=(recorder,) if recorder is not None else (),
         )
-    return Replay(
+    return ExecutedPlan(
         episode=episode,
         variant=variant,
         plan=tuple(steps),

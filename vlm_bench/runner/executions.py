@@ -1,14 +1,14 @@
-"""Plan replays off the generation path (docs/design.md#runs): records' plans execute in a pool of
-worker processes (or on a Ray cluster, :mod:`vlm_bench.runner.replays_ray`) while the backend
-generates the next batches.
+"""Plan executions off the generation path (docs/design.md#runs): records' plans execute in a
+pool of worker processes (or on a Ray cluster, :mod:`vlm_bench.runner.executions_ray`) while the
+backend generates the next batches.
 
-A :class:`Replays` takes scored records, sends each usable plan to its pool once per episode
-(identical plans on the same episode, e.g. both instruction variants, share one replay) and
-hands back finished records, with their execution attached, in the order replays finish. The
-simulation is deterministic and every replay starts from the episode's freshly compiled scene,
+An :class:`Executions` takes scored records, sends each usable plan to its pool once per episode
+(identical plans on the same episode, e.g. both instruction variants, share one execution) and
+hands back finished records, with their execution attached, in the order executions finish. The
+simulation is deterministic and every execution starts from the episode's freshly compiled scene,
 so an outcome does not depend on the pool, the number of workers or the order.
 
-``workers=0`` replays inline, in the calling process, when a record is submitted (no overlap:
+``workers=0`` executes inline, in the calling process, when a record is submitted (no overlap:
 for debugging and for callers that need the result at once).
 """
 
@@ -17,50 +17,50 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
-from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED, Pending, PendingJobs
-from vlm_bench.runner.plan_executor import record_plan
-from vlm_bench.runner.replay_jobs import Replayed, ReplayJob, replay
-from vlm_bench.runner.replay_pools import (
+from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
+from vlm_bench.runner.execution_pools import (
+    ExecutionPool,
     InlinePool,
     ProcessPool,
-    ReplayPool,
     broken_future,
     default_workers,
 )
+from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED, Pending, PendingJobs
+from vlm_bench.runner.plan_executor import record_plan
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutorConfig, ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions, ExecutorConfig
 from vlm_bench.types.records import EpisodeRecord
 
 __all__ = [
+    "EXECUTION_LOST",
     "MAX_ATTEMPTS",
-    "REPLAY_LOST",
     "WORKER_DIED",
+    "Executed",
+    "ExecutionJob",
+    "ExecutionPool",
+    "ExecutionStats",
+    "Executions",
     "InlinePool",
     "ProcessPool",
-    "ReplayJob",
-    "ReplayPool",
-    "ReplayStats",
-    "Replayed",
-    "Replays",
     "broken_future",
     "default_workers",
+    "execute_job",
     "lost_record",
     "make_pool",
-    "replay",
 ]
 
-REPLAY_LOST = "replay lost to the infrastructure"
-"""Start of the message of a record whose replay the infrastructure lost (retried on resume)."""
+EXECUTION_LOST = "execution lost to the infrastructure"
+"""Start of the message of a record whose execution the infrastructure lost (retried on resume)."""
 
 
-def make_pool(options: ReplayOptions) -> ReplayPool:
+def make_pool(options: ExecutionOptions) -> ExecutionPool:
     """The pool ``options`` ask for: inline for 0 workers, else worker processes (default:
     one per core), or Ray tasks on a cluster."""
     workers = default_workers() if options.workers is None else options.workers
     if options.backend == "ray":
-        from vlm_bench.runner.replays_ray import RayPool
+        from vlm_bench.runner.executions_ray import RayPool
 
-        pool: ReplayPool = RayPool(max(1, workers), options.ray_address)
+        pool: ExecutionPool = RayPool(max(1, workers), options.ray_address)
         return pool
     if workers <= 0:
         return InlinePool()
@@ -68,66 +68,66 @@ def make_pool(options: ReplayOptions) -> ReplayPool:
 
 
 @dataclass
-class ReplayStats:
-    """Counts of one :class:`Replays`."""
+class ExecutionStats:
+    """Counts of one :class:`Executions`."""
 
     submitted: int = 0
-    """Records whose plans were sent (or shared a replay)."""
+    """Records whose plans were sent (or shared an execution)."""
     executed: int = 0
-    """Replays run (identical plans on one episode run once)."""
+    """Executions run (identical plans on one episode run once)."""
     finished: int = 0
     """Records handed back with their execution."""
     crashes: int = 0
-    """Replays that ended in an executor exception (recorded as failures)."""
+    """Executions that ended in an executor exception (recorded as failures)."""
     crash_messages: list[str] = field(default_factory=list)
     """``key: reason`` of the first few crashes."""
     lost: int = 0
-    """Records whose replay the infrastructure lost (written as errors a resume retries)."""
+    """Records whose execution the infrastructure lost (written as errors a resume retries)."""
 
 
-class Replays:
-    """Executes records' plans on a pool; hands records back as their replays finish.
+class Executions:
+    """Executes records' plans on a pool; hands records back as their executions finish.
 
-    A replay lost to the infrastructure (its worker died :data:`MAX_ATTEMPTS` times, Ray
-    gave up on it, or no replay finished for ``stall_s`` seconds: a hung worker, a dead node;
+    An execution lost to the infrastructure (its worker died :data:`MAX_ATTEMPTS` times, Ray
+    gave up on it, or no execution finished for ``stall_s`` seconds: a hung worker, a dead node;
     :mod:`~vlm_bench.runner.pending_jobs`)
-    hands its record back as an ``error`` record (:data:`REPLAY_LOST`), which a resume runs
+    hands its record back as an ``error`` record (:data:`EXECUTION_LOST`), which a resume runs
     again; an exception of the executor on the plan stays a recorded ``executor_crash``.
 
     Args:
-        pool: Where replays run.
-        config: Executor settings of every replay (gusts, perturbations; default: none).
+        pool: Where executions run.
+        config: Executor settings of every execution (gusts, perturbations; default: none).
         on_change: Called with (submitted, finished, running, queued) after every change
             (progress displays).
-        stall_s: Longest time with replays in flight and none finishing (s); default:
-            :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
+        stall_s: Longest time with executions in flight and none finishing (s); default:
+            :attr:`ExecutionOptions.stall_s <vlm_bench.types.execution.ExecutionOptions.stall_s>`.
     """
 
     def __init__(
         self,
-        pool: ReplayPool,
+        pool: ExecutionPool,
         config: ExecutorConfig | None = None,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
     ) -> None:
         self.pool = pool
         self.config = config or ExecutorConfig()
-        self.stats = ReplayStats()
-        self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
+        self.stats = ExecutionStats()
+        self.stall_s = ExecutionOptions().stall_s if stall_s is None else stall_s
         self._notify = on_change
-        self._pending: PendingJobs[EpisodeRecord, ReplayJob, Replayed] = PendingJobs(
-            pool, pool.submit, lambda job: job.key, self.stall_s, "replay"
+        self._pending: PendingJobs[EpisodeRecord, ExecutionJob, Executed] = PendingJobs(
+            pool, pool.submit, lambda job: job.key, self.stall_s
         )
-        """Records waiting for their replay: a second record with the same plan waits on the
+        """Records waiting for their execution: a second record with the same plan waits on the
         first's."""
 
     @property
     def in_flight(self) -> int:
-        """Records waiting for their replay."""
+        """Records waiting for their execution."""
         return len(self._pending.items)
 
     def running(self) -> int:
-        """Replays running now (the rest of those in flight are queued)."""
+        """Executions running now (the rest of those in flight are queued)."""
         return self._pending.running()
 
     def submit(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord | None:
@@ -136,7 +136,7 @@ class Replays:
         steps = record_plan(record)
         if steps is None:
             return record.model_copy(update={"execution": None})
-        job = ReplayJob(episode.task_id, episode.seed, self.config, tuple(steps))
+        job = ExecutionJob(episode.task_id, episode.seed, self.config, tuple(steps))
         if self._pending.add(record, job):
             self.stats.executed += 1
         self.stats.submitted += 1
@@ -144,7 +144,7 @@ class Replays:
         return None
 
     def collect(self, block: bool = False, timeout: float | None = None) -> list[EpisodeRecord]:
-        """Records whose replays finished (with ``block``, waits for at least one while any
+        """Records whose executions finished (with ``block``, waits for at least one while any
         is in flight, or ``timeout`` seconds)."""
         if block:
             self._pending.wait(timeout)
@@ -155,20 +155,20 @@ class Replays:
         return out
 
     def drain(self) -> Iterator[EpisodeRecord]:
-        """Every remaining record, as replays finish."""
+        """Every remaining record, as executions finish."""
         while self._pending.items:
             yield from self.collect(block=True)
 
     def close(self, cancel: bool = False) -> None:
-        """Free the pool (``cancel``: drop the replays in flight, e.g. on Ctrl-C)."""
+        """Free the pool (``cancel``: drop the executions in flight, e.g. on Ctrl-C)."""
         self.pool.close(cancel=cancel)
 
-    def _finish(self, p: Pending[EpisodeRecord, ReplayJob, Replayed]) -> EpisodeRecord:
+    def _finish(self, p: Pending[EpisodeRecord, ExecutionJob, Executed]) -> EpisodeRecord:
         try:
             summary, crash = p.future.result()
-        # The executor's own exceptions come back as crash summaries (PlanExecutor.run): what
+        # The executor's own exceptions come back as crash summaries (PlanExecutor.execute): what
         # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
-        except Exception as exc:  # noqa: BLE001  (a replay failure must not kill the run)
+        except Exception as exc:  # noqa: BLE001  (an execution failure must not kill the run)
             self.stats.lost += 1
             return lost_record(p.owner, f"{type(exc).__name__}: {exc}")
         if crash is not None:
@@ -189,13 +189,13 @@ class Replays:
 
 
 def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:
-    """``record`` as an ``error`` record whose replay the infrastructure lost: a resume scores
-    its cached answer again and replays it."""
+    """``record`` as an ``error`` record whose execution the infrastructure lost: a resume scores
+    its cached answer again and executes it."""
     return record.model_copy(
         update={
             "status": "error",
             "execution": None,
-            "backend_error": f"{REPLAY_LOST} ({reason}); a resume runs it again",
-            "error_tags": ("replay_lost",),
+            "backend_error": f"{EXECUTION_LOST} ({reason}); a resume runs it again",
+            "error_tags": ("execution_lost",),
         }
     )

@@ -1,5 +1,5 @@
-"""Plan replays off the generation path: the same outcome whatever the pool and the number of
-workers, one replay per distinct plan of an episode, dead workers replaced, progress lines."""
+"""Plan executions off the generation path: the same outcome whatever the pool and the number of
+workers, one execution per distinct plan of an episode, dead workers replaced, progress lines."""
 
 from __future__ import annotations
 
@@ -21,21 +21,26 @@ from rich.console import Console
 import vlm_bench
 from vlm_bench.episodes import make_episode
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
-from vlm_bench.runner.progress import RunProgress
-from vlm_bench.runner.replays import (
+from vlm_bench.runner.executions import (
+    EXECUTION_LOST,
     MAX_ATTEMPTS,
-    REPLAY_LOST,
     WORKER_DIED,
+    Executed,
+    ExecutionJob,
+    Executions,
     InlinePool,
     ProcessPool,
-    Replayed,
-    ReplayJob,
-    Replays,
-    replay,
+    execute_job,
 )
+from vlm_bench.runner.progress import RunProgress
 from vlm_bench.storage import latest_records, read_records
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, ExecutorConfig, FailureCode, ReplayOptions
+from vlm_bench.types.execution import (
+    ExecutionOptions,
+    ExecutionSummary,
+    ExecutorConfig,
+    FailureCode,
+)
 from vlm_bench.types.plan import Direction, UavStep, plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord
 from vlm_bench.types.run import RunConfig
@@ -43,14 +48,14 @@ from vlm_bench.types.scores import ScoringConfig
 
 ROOT = Path(__file__).resolve().parents[2]
 FAST = ("container_geometry_bowl", "slim_object_in_bowl", "clear_desk_push_box")
-"""Tasks whose GT replays take ~2 s."""
+"""Tasks whose GT executions take ~2 s."""
 
 if TYPE_CHECKING:
     from tests.conftest import Cli
 
 
 def _outcome(summary: ExecutionSummary | None) -> dict[str, object] | None:
-    """What must not depend on where a replay ran: all but its wall time."""
+    """What must not depend on where an execution ran: all but its wall time."""
     return None if summary is None else summary.model_dump(exclude={"wall_time_s"})
 
 
@@ -59,13 +64,13 @@ def _fields(record: EpisodeRecord, *leave_out: str) -> dict[str, object]:
     return {k: v for k, v in record.without_timing().items() if k not in leave_out}
 
 
-def _jobs() -> list[ReplayJob]:
+def _jobs() -> list[ExecutionJob]:
     jobs = []
     for task in FAST[:2]:
         ep = make_episode(task, 0)
-        jobs.append(ReplayJob(task, 0, ExecutorConfig(), tuple(ep.gt_plan)))
+        jobs.append(ExecutionJob(task, 0, ExecutorConfig(), tuple(ep.gt_plan)))
         down = (UavStep(direction=Direction.DOWN, distance=0.2),)
-        jobs.append(ReplayJob(task, 0, ExecutorConfig(), down))
+        jobs.append(ExecutionJob(task, 0, ExecutorConfig(), down))
     return jobs
 
 
@@ -78,18 +83,18 @@ def test_jobs_carry_the_runs_executor_config_across_processes() -> None:
     config = RunConfig(model="m", tasks=(FAST[0],), uav_noise=2.0, perturb=PerturbConfig(bump=0.5))
     executor = config.executor_config()
     steps = (UavStep(direction=Direction.DOWN, distance=0.2),)
-    job = ReplayJob(FAST[0], 0, executor, steps)
+    job = ExecutionJob(FAST[0], 0, executor, steps)
     loop_job = LoopJob(FAST[0], 0, executor, (steps,), None)
     for sent in (job, loop_job):
         back = pickle.loads(pickle.dumps(sent))
         assert back == sent and back.key == sent.key and back.config == executor
-    calm = ReplayJob(FAST[0], 0, ExecutorConfig(), steps)
-    assert calm.key != job.key  # other settings: another replay
+    calm = ExecutionJob(FAST[0], 0, ExecutorConfig(), steps)
+    assert calm.key != job.key  # other settings: another execution
 
 
 def test_outcomes_do_not_depend_on_the_pool_or_its_workers() -> None:
     jobs = _jobs()
-    inline = [replay(j)[0] for j in jobs]
+    inline = [execute_job(j)[0] for j in jobs]
     assert inline[0].exec_success and not inline[1].exec_success
     for workers in (1, 2):
         pool = ProcessPool(workers)
@@ -104,7 +109,7 @@ def test_outcomes_do_not_depend_on_the_pool_or_its_workers() -> None:
 
 def test_ray_pool_gives_the_same_outcomes() -> None:
     pytest.importorskip("ray", reason="the ray extra is not installed")
-    from vlm_bench.runner.replays_ray import RayPool
+    from vlm_bench.runner.executions_ray import RayPool
 
     jobs = _jobs()[:2]
     pool = RayPool(2)
@@ -114,10 +119,10 @@ def test_ray_pool_gives_the_same_outcomes() -> None:
             if pool.held == 0:
                 break
             time.sleep(0.05)
-        assert pool.held == 0  # finished replays do not pin their results
+        assert pool.held == 0  # finished executions do not pin their results
     finally:
         pool.close()
-    assert [_outcome(s) for s in got] == [_outcome(replay(j)[0]) for j in jobs]
+    assert [_outcome(s) for s in got] == [_outcome(execute_job(j)[0]) for j in jobs]
 
 
 def test_a_run_writes_the_same_records_with_0_1_or_2_workers(tmp_path: Path) -> None:
@@ -129,10 +134,10 @@ def test_a_run_writes_the_same_records_with_0_1_or_2_workers(tmp_path: Path) -> 
             seeds=(0,),
             resolution=48,
             out=tmp_path / f"w{workers}",
-            replay=ReplayOptions(workers=workers),
+            execution=ExecutionOptions(workers=workers),
             snapshot_cache=tmp_path / "snapshots",
         )
-        assert result.stats.executed == len(FAST)  # both instructions share one replay
+        assert result.stats.executed == len(FAST)  # both instructions share one execution
         by_key = {r.key: r for r in result.records}
         runs[workers] = {
             k: (
@@ -155,14 +160,14 @@ class _FlakyPool:
         self.submitted = 0
         self.restarts = 0
 
-    def submit(self, job: ReplayJob) -> Future[Replayed]:
+    def submit(self, job: ExecutionJob) -> Future[Executed]:
         self.submitted += 1
-        future: Future[Replayed] = Future()
+        future: Future[Executed] = Future()
         if self.breaks > 0:
             self.breaks -= 1
             future.set_exception(BrokenProcessPool("a worker died"))
         else:
-            future.set_result(replay(job))
+            future.set_result(execute_job(job))
         return future
 
     def restart(self) -> None:
@@ -176,13 +181,13 @@ class _FlakyPool:
 
 
 class _HungPool(_FlakyPool):
-    """A pool whose replays never finish (a hung worker, or a node that is gone)."""
+    """A pool whose executions never finish (a hung worker, or a node that is gone)."""
 
     def __init__(self) -> None:
         super().__init__(breaks=0)
         self.abandoned = 0
 
-    def submit(self, job: ReplayJob) -> Future[Replayed]:
+    def submit(self, job: ExecutionJob) -> Future[Executed]:
         self.submitted += 1
         return Future()
 
@@ -199,27 +204,27 @@ def _record(task: str) -> tuple[Episode, EpisodeRecord]:
     return ep, scored_record(info, ep, response, ScoringConfig())
 
 
-def test_a_dead_worker_is_replaced_and_the_replay_sent_again() -> None:
+def test_a_dead_worker_is_replaced_and_the_execution_sent_again() -> None:
     ep, record = _record(FAST[0])
     pool = _FlakyPool(breaks=1)
-    replays = Replays(pool)
-    assert replays.submit(ep, record) is None
-    assert replays.submit(ep, record.model_copy(update={"key": "same plan"})) is None
-    out = list(replays.drain())
-    assert pool.restarts == 1 and pool.submitted == 2  # the shared replay was sent again once
+    executions = Executions(pool)
+    assert executions.submit(ep, record) is None
+    assert executions.submit(ep, record.model_copy(update={"key": "same plan"})) is None
+    out = list(executions.drain())
+    assert pool.restarts == 1 and pool.submitted == 2  # the shared execution was sent again once
     assert [r.execution.exec_success for r in out if r.execution] == [True, True]
-    assert replays.stats.crashes == 0
+    assert executions.stats.crashes == 0
 
 
-def test_a_replay_that_keeps_killing_its_worker_is_lost_and_retried_on_resume() -> None:
+def test_an_execution_that_keeps_killing_its_worker_is_lost_and_retried_on_resume() -> None:
     ep, record = _record(FAST[0])
-    replays = Replays(_FlakyPool(breaks=MAX_ATTEMPTS))
-    replays.submit(ep, record)
-    (out,) = list(replays.drain())
+    executions = Executions(_FlakyPool(breaks=MAX_ATTEMPTS))
+    executions.submit(ep, record)
+    (out,) = list(executions.drain())
     assert out.status == "error" and out.execution is None  # not a result: a resume retries
-    assert out.backend_error is not None and out.backend_error.startswith(REPLAY_LOST)
-    assert WORKER_DIED in out.backend_error and out.error_tags == ("replay_lost",)
-    assert replays.stats.lost == 1 and replays.stats.crashes == 0
+    assert out.backend_error is not None and out.backend_error.startswith(EXECUTION_LOST)
+    assert WORKER_DIED in out.backend_error and out.error_tags == ("execution_lost",)
+    assert executions.stats.lost == 1 and executions.stats.crashes == 0
 
 
 def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
@@ -232,30 +237,32 @@ def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
 
     monkeypatch.setattr(executor, "execute_plan", broken)
     ep, record = _record(FAST[0])
-    replays = Replays(InlinePool())
-    replays.submit(ep, record)
-    (out,) = list(replays.drain())
+    executions = Executions(InlinePool())
+    executions.submit(ep, record)
+    (out,) = list(executions.drain())
     assert out.status == "ok" and out.execution is not None
     assert out.execution.failure_code is FailureCode.EXECUTOR_CRASH
-    assert replays.stats.crashes == 1 and replays.stats.lost == 0
+    assert executions.stats.crashes == 1 and executions.stats.lost == 0
 
 
-def test_replays_that_never_finish_are_given_up_within_the_stall_bound() -> None:
+def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
     ep, record = _record(FAST[0])
     pool = _HungPool()
-    replays = Replays(pool, stall_s=0.3)
-    replays.submit(ep, record)
+    executions = Executions(pool, stall_s=0.3)
+    executions.submit(ep, record)
     start = time.monotonic()
     out: list[EpisodeRecord] = []
     while not out and time.monotonic() - start < 5:
-        out = replays.collect(block=True, timeout=0.05)
+        out = executions.collect(block=True, timeout=0.05)
     assert time.monotonic() - start < 2
     (lost,) = out
-    assert lost.status == "error" and "no replay finished for 0.3 s" in (lost.backend_error or "")
-    assert pool.abandoned == 1 and replays.in_flight == 0
+    assert lost.status == "error" and "no execution finished for 0.3 s" in (
+        lost.backend_error or ""
+    )
+    assert pool.abandoned == 1 and executions.in_flight == 0
 
 
-def test_a_run_whose_replays_were_lost_resumes_them(
+def test_a_run_whose_executions_were_lost_resumes_them(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from vlm_bench.runner import benchmark_run
@@ -263,14 +270,14 @@ def test_a_run_whose_replays_were_lost_resumes_them(
     config = RunConfig(
         model="oracle", tasks=FAST[:2], seeds=(0,), instructions=("explicit",), resolution=32
     )
-    inline = ReplayOptions(workers=0)
+    inline = ExecutionOptions(workers=0)
     monkeypatch.setattr(benchmark_run, "make_pool", lambda options: _FlakyPool(breaks=99))
-    lost = vlm_bench.run(config, out=tmp_path / "lost" / "run", replay=inline)
+    lost = vlm_bench.run(config, out=tmp_path / "lost" / "run", execution=inline)
     assert [r.status for r in lost.records] == ["error", "error"]
     monkeypatch.undo()
-    resumed = vlm_bench.run(config, out=tmp_path / "lost" / "run", replay=inline)
+    resumed = vlm_bench.run(config, out=tmp_path / "lost" / "run", execution=inline)
     assert resumed.stats.skipped == 0 and all(r.ok for r in resumed.records)
-    clean = vlm_bench.run(config, out=tmp_path / "clean" / "run", replay=inline)
+    clean = vlm_bench.run(config, out=tmp_path / "clean" / "run", execution=inline)
     assert [r.without_timing() for r in resumed.records] == [
         r.without_timing() for r in clean.records
     ]
@@ -279,9 +286,9 @@ def test_a_run_whose_replays_were_lost_resumes_them(
 def test_a_record_without_a_plan_is_finished_at_once() -> None:
     ep, record = _record(FAST[0])
     no_plan = record.model_copy(update={"parse": None})
-    replays = Replays(InlinePool())
-    finished = replays.submit(ep, no_plan)
-    assert finished is not None and finished.execution is None and replays.in_flight == 0
+    executions = Executions(InlinePool())
+    finished = executions.submit(ep, no_plan)
+    assert finished is not None and finished.execution is None and executions.in_flight == 0
 
 
 def test_plain_progress_lines_every_n_episodes() -> None:
@@ -289,14 +296,15 @@ def test_plain_progress_lines_every_n_episodes() -> None:
     console = Console(file=buffer, width=200)
     with RunProgress(25, "run-x", every=10, console=console) as shown:
         shown.skipped(3)
-        shown.replays_changed(4, 1, 2, 1)
+        shown.executions_changed(4, 1, 2, 1)
         for _ in range(22):
             shown.generated(1)
             shown.written(1)
     lines = buffer.getvalue().splitlines()
     assert len(lines) == 3  # at 13 and 23 written, and the end
     assert lines[0].startswith(
-        "run-x 13/25 episodes | generated 13/25 | replays 1/4 done, 2 running, 1 queued | elapsed "
+        "run-x 13/25 episodes | generated 13/25 | executions 1/4 done, 2 running, 1 queued"
+        " | elapsed "
     )
     assert lines[-1].startswith("run-x 25/25 episodes")
     assert "eta 0:00" in lines[-1]
@@ -307,7 +315,7 @@ def _args(cli: Cli, out: Path) -> list[str]:
     return cli.run_args(out, "oracle", FAST, "0", *options)
 
 
-def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
+def test_sigkill_with_parallel_executions_then_resume_equals_uninterrupted(
     cli: Cli, tmp_path: Path
 ) -> None:
     killed_dir = tmp_path / "killed" / "run"
@@ -323,7 +331,7 @@ def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
     )
     records = killed_dir / "records.jsonl"
     cli.wait_for_records(proc, records, 1, timeout=240)
-    os.killpg(proc.pid, signal.SIGKILL)  # the run and its replay workers
+    os.killpg(proc.pid, signal.SIGKILL)  # the run and its execution workers
     proc.wait()
     at_kill = len(read_records(records))
     assert 1 <= at_kill < len(FAST) * 2
@@ -340,7 +348,7 @@ def test_sigkill_with_parallel_replays_then_resume_equals_uninterrupted(
     assert all(o[1] is not None for o in got)  # every record carries its execution
 
 
-def test_ctrl_c_is_honoured_at_once_while_replays_hang(
+def test_ctrl_c_is_honoured_at_once_while_executions_hang(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from vlm_bench.runner import benchmark_run
@@ -351,11 +359,11 @@ def test_ctrl_c_is_honoured_at_once_while_replays_hang(
         sent.append(time.monotonic())
         os.kill(os.getpid(), signal.SIGINT)
 
-    # Ctrl-C once the first replay hangs; a second one (which ends it anyway) much later.
+    # Ctrl-C once the first execution hangs; a second one (which ends it anyway) much later.
     timers = [threading.Timer(0.5, interrupt), threading.Timer(20, interrupt)]
 
     class _InterruptedWhileHung(_HungPool):
-        def submit(self, job: ReplayJob) -> Future[Replayed]:
+        def submit(self, job: ExecutionJob) -> Future[Executed]:
             if not self.submitted:
                 for timer in timers:
                     timer.start()
@@ -366,7 +374,7 @@ def test_ctrl_c_is_honoured_at_once_while_replays_hang(
     config = RunConfig(model="oracle", tasks=FAST[:1], seeds=(0,), resolution=32)
     try:
         with pytest.raises(KeyboardInterrupt):
-            vlm_bench.run(config, out=tmp_path / "run", replay=ReplayOptions(workers=1))
+            vlm_bench.run(config, out=tmp_path / "run", execution=ExecutionOptions(workers=1))
         assert time.monotonic() - sent[0] < 2  # the first Ctrl-C, not the second
     finally:
         for timer in timers:

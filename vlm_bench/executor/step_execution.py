@@ -1,8 +1,8 @@
 """One plan step at a time on a live simulation loop: UAV moves, ARM skills, their outcomes.
 
-:class:`StepRunner` runs steps on a loop that may already have run earlier steps (a closed
-loop's later rounds continue the same simulation); :func:`replay_steps` runs a plan's steps
-in order and stops at the first failure.
+:class:`PlanExecution` executes steps on a loop that may already have executed earlier steps (a
+closed loop's later rounds continue the same simulation); :func:`execute_steps` executes a plan's
+steps in order and stops at the first failure.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def next_arm_step(plan: PlanSteps, index: int) -> ArmStep | None:
     return next((s for s in plan[index + 1 :] if isinstance(s, ArmStep)), None)
 
 
-def run_move(
+def execute_move(
     loop: SimLoop,
     refs: StepReferences,
     step: UavStep,
@@ -100,8 +100,8 @@ def _agent(step: UavStep | ArmStep) -> Literal["UAV", "ARM"]:
     return "UAV" if isinstance(step, UavStep) else "ARM"
 
 
-class StepRunner:
-    """Runs plan steps on one loop: references, skills, and the perturbations (if any) that
+class PlanExecution:
+    """Executes plan steps on one loop: references, skills, and the perturbations (if any) that
     fire before ARM steps and during flights."""
 
     def __init__(
@@ -162,11 +162,11 @@ class StepRunner:
         loop = self.loop
         carrier = self.carrier() if loop.held is not None else None
         if self.perturber is None:
-            run_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
+            execute_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
             return
         self.perturber.flight_started(loop, index)
         try:
-            run_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
+            execute_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
         finally:
             self.perturber.flight_ended(loop)
 
@@ -204,7 +204,9 @@ class StepRunner:
         )
 
 
-def replay_steps(run: StepRunner, plan: PlanSteps) -> tuple[list[StepOutcome], SkillFailure | None]:
+def execute_steps(
+    execution: PlanExecution, plan: PlanSteps
+) -> tuple[list[StepOutcome], SkillFailure | None]:
     """Each step's outcome, stopping at the first failure (later steps are skipped), and
     that failure, its detail prefixed with the step's index."""
     outcomes: list[StepOutcome] = []
@@ -220,7 +222,7 @@ def replay_steps(run: StepRunner, plan: PlanSteps) -> tuple[list[StepOutcome], S
             )
             outcomes.append(skipped)
             continue
-        outcome = run.step(index, step, plan)
+        outcome = execution.step(index, step, plan)
         outcomes.append(outcome)
         if outcome.reason is not None and outcome.failure_code is not None:
             failure = SkillFailure(outcome.failure_code, f"step {index}: {outcome.reason}")

@@ -1,4 +1,4 @@
-"""``benchmarks/replay_parts.py`` still finds the functions it times (they are private names
+"""``benchmarks/execution_parts.py`` still finds the functions it times (they are private names
 that a refactor may move) and, against the same tree, reports equal results."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "replay_parts.py"
+SCRIPT = ROOT / "benchmarks" / "execution_parts.py"
 
 
 def _run(*args: str) -> str:

@@ -1,6 +1,6 @@
-"""Replays on a Ray cluster (``--exec-backend ray``; needs the ``ray`` extra).
+"""Executes on a Ray cluster (``--exec-backend ray``; needs the ``ray`` extra).
 
-Each replay is a Ray task of one CPU: Ray schedules the tasks over the cluster's nodes and
+Each execution is a Ray task of one CPU: Ray schedules the tasks over the cluster's nodes and
 retries a task whose worker process died (:data:`MAX_RETRIES`). With no address, a local
 cluster of ``workers`` CPUs is started for the run and stopped after it, even where another
 cluster runs on the machine (``address="local"``); with one (``--ray-address auto`` or
@@ -16,11 +16,11 @@ from concurrent.futures import Future
 from typing import Any
 
 from vlm_bench.errors import ConfigError
-from vlm_bench.runner.replay_jobs import Replayed, ReplayJob, replay
-from vlm_bench.runner.replay_pools import J, R
+from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
+from vlm_bench.runner.execution_pools import J, R
 
 MAX_RETRIES = 2
-"""Times Ray runs a replay again after its worker process died."""
+"""Times Ray runs an execution again after its worker process died."""
 
 
 def check_ray_address(address: str | None) -> None:
@@ -37,7 +37,7 @@ def check_ray_address(address: str | None) -> None:
 
 
 class RayPool:
-    """Sends replays to Ray as tasks (the cluster is joined on the first replay).
+    """Sends executions to Ray as tasks (the cluster is joined on the first execution).
 
     Args:
         workers: CPUs of the local cluster started when ``address`` is None (on a cluster:
@@ -53,7 +53,7 @@ class RayPool:
         self._started = False
         self._tasks: dict[Callable[..., Any], Any] = {}
         self._refs: dict[int, Any] = {}
-        """The object refs of replays in flight (for cancelling; finished ones are dropped so
+        """The object refs of executions in flight (for cancelling; finished ones are dropped so
         a long sweep does not pin its results in the object store)."""
 
     def _connect(self) -> Any:
@@ -81,11 +81,11 @@ class RayPool:
                 where = self.address or "a local cluster"
                 first = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
                 raise ConfigError(f"cannot start Ray on {where}: {first[:300]}") from None
-        self._task = ray.remote(num_cpus=1, max_retries=MAX_RETRIES)(replay)
+        self._task = ray.remote(num_cpus=1, max_retries=MAX_RETRIES)(execute_job)
         self._ray = ray
         return ray
 
-    def submit(self, job: ReplayJob) -> Future[Replayed]:
+    def submit(self, job: ExecutionJob) -> Future[Executed]:
         self._connect()
         return self._track(self._task.remote(job))
 
@@ -104,7 +104,7 @@ class RayPool:
 
     @property
     def held(self) -> int:
-        """Object refs held: replays in flight (a finished one's ref is dropped)."""
+        """Object refs held: executions in flight (a finished one's ref is dropped)."""
         return len(self._refs)
 
     def restart(self) -> None:

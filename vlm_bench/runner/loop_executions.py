@@ -1,10 +1,10 @@
 """Closed-loop episodes (``--loop closed``; docs/design.md#closed-loop): execute, and after a failed
 round, replan from the state it left.
 
-:class:`LoopReplays` stands where :class:`~vlm_bench.runner.replays.Replays` stands in an
+:class:`LoopExecutions` stands where :class:`~vlm_bench.runner.executions.Executions` stands in an
 open-loop run. It takes round 0's scored record (exactly the open-loop record), executes its
-plan in the pool and, when the round fails, asks for a replan (:meth:`LoopReplays.requests`)
-whose answer (:meth:`LoopReplays.answer`) executes from where the last round stopped: every
+plan in the pool and, when the round fails, asks for a replan (:meth:`LoopExecutions.requests`)
+whose answer (:meth:`LoopExecutions.answer`) executes from where the last round stopped: every
 job runs all of the episode's rounds in one simulation (:mod:`~vlm_bench.runner.loop_jobs`).
 An episode ends at success, after ``max_rounds`` replans, when the step budget is spent, or when
 an answer holds no plan; its record is round 0's with ``rounds`` and ``loop`` added.
@@ -19,7 +19,9 @@ from functools import partial
 from vlm_bench.backends.builtin import round_request_id
 from vlm_bench.parsing import parse_plan, plan_json_schema
 from vlm_bench.prompting import build_replan_prompt
-from vlm_bench.runner.loop_jobs import LoopJob, RoundsReplayed, StateRequest, replay_rounds
+from vlm_bench.runner.execution_pools import ExecutionPool
+from vlm_bench.runner.executions import ExecutionStats, lost_record
+from vlm_bench.runner.loop_jobs import LoopJob, RoundsExecuted, StateRequest, execute_rounds
 from vlm_bench.runner.loop_rounds import (
     Turns,
     chain_hash,
@@ -30,11 +32,9 @@ from vlm_bench.runner.loop_rounds import (
 )
 from vlm_bench.runner.pending_jobs import PendingJobs
 from vlm_bench.runner.plan_executor import record_plan
-from vlm_bench.runner.replay_pools import ReplayPool
-from vlm_bench.runner.replays import ReplayStats, lost_record
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary, ReplayOptions
+from vlm_bench.types.execution import ExecutionOptions, ExecutionSummary
 from vlm_bench.types.generation import (
     GenerationRequest,
     RequestMeta,
@@ -79,7 +79,7 @@ class _Live:
         return len(self.executed)
 
 
-class LoopReplays:
+class LoopExecutions:
     """Runs closed-loop episodes on a pool (see module doc).
 
     Args:
@@ -87,18 +87,18 @@ class LoopReplays:
         config: The run's configuration (loop, perturbations, prompt and view options).
         on_change: Called with (submitted, finished, running, queued) after every change.
         stall_s: Longest time with rounds executing and none finishing (s); default:
-            :attr:`ReplayOptions.stall_s <vlm_bench.types.execution.ReplayOptions.stall_s>`.
+            :attr:`ExecutionOptions.stall_s <vlm_bench.types.execution.ExecutionOptions.stall_s>`.
 
     An execution the infrastructure loses (its worker died
     :data:`~vlm_bench.runner.pending_jobs.MAX_ATTEMPTS` times, Ray gave up, or no execution
     finished for ``stall_s``) ends its episode as an ``error`` record
-    (:func:`~vlm_bench.runner.replays.lost_record`), which a resume runs again from the cached
+    (:func:`~vlm_bench.runner.executions.lost_record`), which a resume runs again from the cached
     answers; an exception of the executor stays a recorded ``executor_crash``.
     """
 
     def __init__(
         self,
-        pool: ReplayPool,
+        pool: ExecutionPool,
         config: RunConfig,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
@@ -107,16 +107,15 @@ class LoopReplays:
         self.config = config
         self.executor = config.executor_config()
         """Every round's executor settings (built once)."""
-        self.stall_s = ReplayOptions().stall_s if stall_s is None else stall_s
-        self.stats = ReplayStats()
+        self.stall_s = ExecutionOptions().stall_s if stall_s is None else stall_s
+        self.stats = ExecutionStats()
         self._notify = on_change
         self._live: dict[str, _Live] = {}
-        self._running: PendingJobs[str, LoopJob, RoundsReplayed] = PendingJobs(
+        self._running: PendingJobs[str, LoopJob, RoundsExecuted] = PendingJobs(
             pool,
-            partial(pool.submit_call, replay_rounds),
+            partial(pool.submit_call, execute_rounds),
             lambda job: job.key,
             self.stall_s,
-            "execution",
             keep_done=False,  # results hold snapshots and views: held only while needed
         )
         """The job of each episode executing, by episode key."""
@@ -212,13 +211,13 @@ class LoopReplays:
         for done in self._running.finished():
             key = done.owner
             try:
-                replayed = done.future.result()
-            # The executor's own exceptions come back as crash summaries (replay_rounds): what
+                executed = done.future.result()
+            # The executor's own exceptions come back as crash summaries (execute_rounds): what
             # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
-            except Exception as exc:  # noqa: BLE001  (a replay failure must not kill a run)
+            except Exception as exc:  # noqa: BLE001  (an execution failure must not kill a run)
                 out.append(self._lost(key, f"{type(exc).__name__}: {exc}"))
                 continue
-            record = self._advance(key, replayed)
+            record = self._advance(key, executed)
             if record is not None:
                 out.append(record)
         self.stats.finished += len(out)
@@ -255,33 +254,33 @@ class LoopReplays:
         self._changed()
         return lost_record(live.first, reason)
 
-    def _advance(self, key: str, replayed: RoundsReplayed) -> EpisodeRecord | None:
+    def _advance(self, key: str, executed: RoundsExecuted) -> EpisodeRecord | None:
         live = self._live[key]
-        summary = replayed.executions[-1]
-        if replayed.crash is not None:
+        summary = executed.executions[-1]
+        if executed.crash is not None:
             self.stats.crashes += 1
             if len(self.stats.crash_messages) < 5:
-                self.stats.crash_messages.append(f"{key}: {replayed.crash}")
-        live.snapshot = replayed.snapshot
+                self.stats.crash_messages.append(f"{key}: {executed.crash}")
+        live.snapshot = executed.snapshot
         if live.rounds:
             live.rounds[-1] = live.rounds[-1].model_copy(update={"execution": summary})
         else:
             live.first = live.first.model_copy(update={"execution": summary})
-        if replayed.crash is None:
+        if executed.crash is None:
             live.executed.extend(ran_steps(live.plans[-1], summary))
         if summary.exec_success:
             return self._finish(live, "success")
         if len(live.plans) > self.config.max_rounds:
             return self._finish(live, "max_rounds")
-        if replayed.crash is not None or replayed.state is None:
+        if executed.crash is not None or executed.state is None:
             return self._finish(live, "executor_crash")
         if live.steps_used() >= live.budget:
             return self._finish(live, "budget")
-        self._ask(key, live, replayed)
+        self._ask(key, live, executed)
         return None
 
-    def _ask(self, key: str, live: _Live, replayed: RoundsReplayed) -> None:
-        state, ep, summary = replayed.state, live.episode, replayed.executions[-1]
+    def _ask(self, key: str, live: _Live, executed: RoundsExecuted) -> None:
+        state, ep, summary = executed.state, live.episode, executed.executions[-1]
         assert state is not None
         feedback = Feedback(
             round=len(live.plans),

@@ -1,15 +1,15 @@
-"""Where a GT replay's wall time goes, and two source trees compared on the same replays.
+"""Where a GT execution's wall time goes, and two source trees compared on the same executions.
 
-Usage: ``python benchmarks/replay_parts.py [--episodes task:seed,...] [--against PATH]``
+Usage: ``python benchmarks/execution_parts.py [--episodes task:seed,...] [--against PATH]``
 
-Replays the GT plans of ``--episodes`` (default: four typical episodes and four planning-heavy
+Executes the GT plans of ``--episodes`` (default: four typical episodes and four planning-heavy
 long-horizon ones) back to back in one process and prints the wall time by part: physics steps
 (``mj_step``, the Python UAV controller, contact bookkeeping, the rest of the loop), IK solves
 (with their QP iterations), collision checks (computed and answered from the cache), and the
 rest (planning in Python, scene build, goal check). The timers add about 0.3 µs per call.
 
 With ``--against PATH`` (another checkout of vlm-bench, e.g. ``git worktree add /tmp/old REV``)
-each episode is replayed once by this tree and once by that one, alternately, each in a fresh
+each episode is executed once by this tree and once by that one, alternately, each in a fresh
 process without timers, and the script prints each episode's wall time in both, the ratio, and
 whether the two results are equal (every field of the execution result but its wall time): a
 change meant to keep outcomes shows ``equal`` everywhere.
@@ -44,8 +44,8 @@ def _episodes(text: str) -> list[tuple[str, int]]:
     return [(e.rsplit(":", 1)[0], int(e.rsplit(":", 1)[1])) for e in text.split(",") if e]
 
 
-def _replay(task: str, seed: int) -> tuple[float, float, dict[str, Any]]:
-    """Wall time, simulated time and the result (without its wall time) of one GT replay."""
+def _execute(task: str, seed: int) -> tuple[float, float, dict[str, Any]]:
+    """Wall time, simulated time and the result (without its wall time) of one GT execution."""
     from vlm_bench.episodes import make_episode
     from vlm_bench.executor import execute_plan
 
@@ -79,7 +79,7 @@ class _Timers:
 
 
 def parts(episodes: list[tuple[str, int]]) -> None:
-    """Replay ``episodes`` with timers and print the table of parts."""
+    """Execute ``episodes`` with timers and print the table of parts."""
     import mink
     import mujoco
 
@@ -98,7 +98,7 @@ def parts(episodes: list[tuple[str, int]]) -> None:
     timers.wrap(collision_check.CollisionChecker, "_collide", "computed")
     wall = sim = 0.0
     for task, seed in episodes:
-        w, s, _ = _replay(task, seed)
+        w, s, _ = _execute(task, seed)
         wall, sim = wall + w, sim + s
         print(f"{task} seed {seed}: {s:.1f} s simulated in {w:.2f} s ({s / w:.1f}x)")
     t, n = timers.seconds, timers.calls
@@ -116,7 +116,9 @@ def parts(episodes: list[tuple[str, int]]) -> None:
         ("rest (planning, build, goals)", wall - t["physics"] - t["ik"] - t["checks"], 0, ""),
     ]
     print(f"\nmachine: {machine()}")
-    print(f"{len(episodes)} replays: {sim:.1f} s simulated in {wall:.2f} s ({sim / wall:.1f}x)\n")
+    print(
+        f"{len(episodes)} executions: {sim:.1f} s simulated in {wall:.2f} s ({sim / wall:.1f}x)\n"
+    )
     print("| part | s | share | calls | µs/call |")
     print("|---|---|---|---|---|")
     for label, seconds, calls, unit in rows:
@@ -126,7 +128,7 @@ def parts(episodes: list[tuple[str, int]]) -> None:
 
 
 def compare(episodes: list[tuple[str, int]], other: Path) -> None:
-    """Replay each episode in this tree and in ``other``, alternately, and compare."""
+    """Execute each episode in this tree and in ``other``, alternately, and compare."""
     trees = {"this": REPO, "other": other.resolve()}
     print(f"machine: {machine()}\nthis: {REPO}\nother: {trees['other']}\n")
     print("| episode | this s | other s | other / this | results |")
@@ -163,9 +165,9 @@ def main() -> None:
     parser.add_argument("--against", type=Path, default=None, help="another vlm-bench checkout")
     parser.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.worker is not None:  # one replay, in the tree on PYTHONPATH: a JSON line
+    if args.worker is not None:  # one execution, in the tree on PYTHONPATH: a JSON line
         ((task, seed),) = _episodes(args.worker)
-        wall, sim, result = _replay(task, seed)
+        wall, sim, result = _execute(task, seed)
         print(json.dumps({"wall": wall, "sim": sim, "result": result}))
     elif args.against is not None:
         compare(_episodes(args.episodes), args.against)

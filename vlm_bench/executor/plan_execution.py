@@ -1,8 +1,8 @@
-"""Replay a validated plan in the simulator, step by step, stopping at the first failure.
+"""Execute a validated plan in the simulator, step by step, stopping at the first failure.
 
 After the last step the scene settles (servo targets and UAV setpoint held), then the task's
 goal predicates are checked, non-target objects' displacement is measured and the VLA metrics
-are computed. The steps run in :mod:`~vlm_bench.executor.replay_steps`; a replay is one round
+are computed. The steps run in :mod:`~vlm_bench.executor.step_execution`; an execution is one round
 of a :class:`~vlm_bench.executor.live_episode.LiveEpisode` on a fresh scene.
 """
 
@@ -11,29 +11,29 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from vlm_bench.executor.live_episode import LiveEpisode
-from vlm_bench.executor.replay_steps import (
-    SkillFactory,
-    StepRunner,
-    episode_scene,
-    next_arm_step,
-    run_move,
-    target_ids,
-)
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.scripted_skills import default_skills
+from vlm_bench.executor.step_execution import (
+    PlanExecution,
+    SkillFactory,
+    episode_scene,
+    execute_move,
+    next_arm_step,
+    target_ids,
+)
 from vlm_bench.sim.scene import Scene
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult, ExecutorConfig
 from vlm_bench.types.plan import PlanSteps
 
 __all__ = [
+    "PlanExecution",
     "PlanSteps",
     "SkillFactory",
-    "StepRunner",
     "episode_scene",
+    "execute_move",
     "execute_plan",
     "next_arm_step",
-    "run_move",
     "target_ids",
 ]
 
@@ -46,7 +46,7 @@ def execute_plan(
     arm_skills: SkillFactory = default_skills,
     observers: Sequence[Callable[[SimLoop], None]] = (),
 ) -> ExecutionResult:
-    """Replay ``plan`` on ``episode``'s scene (built fresh unless ``scene`` is given).
+    """Execute ``plan`` on ``episode``'s scene (built fresh unless ``scene`` is given).
 
     Args:
         episode: The episode (scene, goals, GT used for non-target objects).

@@ -1,6 +1,6 @@
-"""Where replays run (docs/design.md#runs): the calling process, or worker processes of this
-machine (Ray tasks on a cluster: :mod:`vlm_bench.runner.replays_ray`). :func:`make_pool` in
-:mod:`vlm_bench.runner.replays` picks one from the run's options.
+"""Where executions run (docs/design.md#runs): the calling process, or worker processes of this
+machine (Ray tasks on a cluster: :mod:`vlm_bench.runner.executions_ray`). :func:`make_pool` in
+:mod:`vlm_bench.runner.executions` picks one from the run's options.
 """
 
 from __future__ import annotations
@@ -12,20 +12,20 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Protocol, TypeVar
 
-from vlm_bench.runner.replay_jobs import Replayed, ReplayJob, replay
+from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
 from vlm_bench.runner.worker_lifetime import die_with_parent
 
 J = TypeVar("J")
 R = TypeVar("R")
 
 
-class ReplayPool(Protocol):
-    """Where replays run."""
+class ExecutionPool(Protocol):
+    """Where executions run."""
 
     workers: int
-    """Replays that run at once."""
+    """Executions that run at once."""
 
-    def submit(self, job: ReplayJob) -> Future[Replayed]:
+    def submit(self, job: ExecutionJob) -> Future[Executed]:
         """Start ``job``; its future holds the outcome."""
         ...
 
@@ -39,12 +39,12 @@ class ReplayPool(Protocol):
         ...
 
     def abandon(self) -> None:
-        """Drop every replay in flight (hung, or on a node that is gone): stop what runs them;
+        """Drop every execution in flight (hung, or on a node that is gone): stop what runs them;
         later submissions start afresh."""
         ...
 
     def close(self, cancel: bool = False) -> None:
-        """Wait for the replays in flight (or, with ``cancel``, drop them) and free the
+        """Wait for the executions in flight (or, with ``cancel``, drop them) and free the
         workers."""
         ...
 
@@ -55,12 +55,12 @@ def _init_worker(parent: int) -> None:
 
 
 class InlinePool:
-    """Replays in the calling process, at submit (``--exec-workers 0``)."""
+    """Executes in the calling process, at submit (``--exec-workers 0``)."""
 
     workers = 1
 
-    def submit(self, job: ReplayJob) -> Future[Replayed]:
-        return self.submit_call(replay, job)
+    def submit(self, job: ExecutionJob) -> Future[Executed]:
+        return self.submit_call(execute_job, job)
 
     def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
         future: Future[R] = Future()
@@ -81,7 +81,7 @@ class InlinePool:
 
 
 class ProcessPool:
-    """Replays in ``workers`` worker processes of this machine (started with ``spawn``: the
+    """Executes in ``workers`` worker processes of this machine (started with ``spawn``: the
     parent may hold a GPU context or an EGL renderer that a fork must not inherit). The
     workers exit when this process does (:func:`~.worker_lifetime.die_with_parent`)."""
 
@@ -97,8 +97,8 @@ class ProcessPool:
             initargs=(os.getpid(),),
         )
 
-    def submit(self, job: ReplayJob) -> Future[Replayed]:
-        return self._pool.submit(replay, job)
+    def submit(self, job: ExecutionJob) -> Future[Executed]:
+        return self._pool.submit(execute_job, job)
 
     def submit_call(self, fn: Callable[[J], R], job: J) -> Future[R]:
         return self._pool.submit(fn, job)
@@ -114,7 +114,7 @@ class ProcessPool:
     def close(self, cancel: bool = False) -> None:
         if cancel:
             for proc in list(getattr(self._pool, "_processes", {}).values()):
-                proc.terminate()  # a replay in flight takes seconds: do not wait for it
+                proc.terminate()  # an execution in flight takes seconds: do not wait for it
         self._pool.shutdown(wait=not cancel, cancel_futures=cancel)
 
 
