@@ -148,8 +148,12 @@ def test_stand_off_constants() -> None:
     assert math.hypot(APPROACH.standoff_horizontal, APPROACH.op_height) == pytest.approx(0.65)
 
 
-def _check_drift(seeds: range | tuple[int, ...]) -> None:
-    for task in all_tasks():
+def _check_drift(seeds: range | tuple[int, ...], every: int = 1) -> None:
+    """Drawn episodes equal the committed ones: ``seeds`` of every task, or, with ``every`` > 1,
+    every ``every``-th task at its own seed (index mod 10), so the seeds rotate over the tasks."""
+    for index, task in enumerate(all_tasks()):
+        if index % every and not UPDATE_GOLDEN:
+            continue
         path = materialised_path(task)
         if UPDATE_GOLDEN:
             path.parent.mkdir(parents=True, exist_ok=True)
@@ -157,15 +161,16 @@ def _check_drift(seeds: range | tuple[int, ...]) -> None:
         assert path.is_file(), f"missing {path}: run `vlm-bench ground-truth --write`"
         stored = {ep.seed: ep for ep in load_materialised(task).episodes}
         assert sorted(stored) == list(SEEDS), task.id
-        for seed in seeds:
+        for seed in seeds if every == 1 else (index % len(SEEDS),):
             assert make_episode(task, seed) == stored[seed], (
                 f"GT drift in {task.id} seed {seed}: review, then `vlm-bench ground-truth --write`"
             )
 
 
-def test_materialised_ground_truth_has_not_drifted_on_one_seed() -> None:
-    """Seed 7 of every task (an episode takes up to a few seconds to draw; all: ``-m slow``)."""
-    _check_drift((7,))
+def test_materialised_ground_truth_has_not_drifted_on_a_sample() -> None:
+    """Every third task at a seed that rotates with it, seed 0's canonical layouts included
+    (an episode takes up to a few seconds to draw; every episode: ``-m slow``)."""
+    _check_drift((), every=3)
 
 
 @pytest.mark.slow

@@ -96,7 +96,7 @@ def test_outcomes_do_not_depend_on_the_pool_or_its_workers() -> None:
     jobs = _jobs()
     inline = [execute_job(j)[0] for j in jobs]
     assert inline[0].exec_success and not inline[1].exec_success
-    for workers in (1, 2):
+    for workers in (2,):  # one worker is covered by the run below
         pool = ProcessPool(workers)
         try:
             # reversed: each worker meets the episodes in another order than inline
@@ -125,9 +125,9 @@ def test_ray_pool_gives_the_same_outcomes() -> None:
     assert [_outcome(s) for s in got] == [_outcome(execute_job(j)[0]) for j in jobs]
 
 
-def test_a_run_writes_the_same_records_with_0_1_or_2_workers(tmp_path: Path) -> None:
+def test_a_run_writes_the_same_records_inline_or_in_a_worker(tmp_path: Path) -> None:
     runs = {}
-    for workers in (0, 1, 2):
+    for workers in (0, 1):
         result = vlm_bench.run(
             model="oracle",
             tasks=FAST,
@@ -146,7 +146,7 @@ def test_a_run_writes_the_same_records_with_0_1_or_2_workers(tmp_path: Path) -> 
             )
             for k, r in sorted(by_key.items())
         }
-    assert runs[0] == runs[1] == runs[2]
+    assert runs[0] == runs[1]
     assert all(v[1] is not None and v[1]["exec_success"] for v in runs[0].values())
 
 

@@ -50,6 +50,7 @@ def test_counting_contacts_up_to_a_limit_stops_at_the_first_posture_over_it(
     assert hand.core.path_hits(out, stowed, query, limit=full - 1) == full
 
 
+@pytest.mark.slow  # a whole episode twice (~30 s); the pruning's unit test above stays default
 def test_pruned_planning_executes_as_full_counting_does(monkeypatch: pytest.MonkeyPatch) -> None:
     """standard_pick_place seed 9: the release is planned over ~800 candidates, most of them
     with contacts; counting every contact of every candidate executes the same episode (an
