@@ -51,11 +51,11 @@ ARCHS = {arch.name: arch for arch in tiny.ARCHS}
 @pytest.fixture(scope="module")
 def system_prompt() -> str:
     """The benchmark's own system prompt (no few-shot examples), to train the tokenizer on."""
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.prompting import build_prompt
     from vlm_bench.types.run import RunConfig
 
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     config = RunConfig(model="mock", images=False, k_shot=0).prompt_config("explicit")
     return build_prompt(episode, {}, config).to_request("x").system
 

@@ -11,7 +11,7 @@ import pytest
 import vlm_bench
 from vlm_bench.backends import blind_planner
 from vlm_bench.backends.blind_planner import blind_plan, guess_moves, segment_table, segments
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.types.plan import Direction
 
@@ -80,7 +80,7 @@ def test_blind_guesses_from_the_majority_of_other_seeds() -> None:
 
 
 def test_blind_never_reads_its_own_seed(monkeypatch: pytest.MonkeyPatch) -> None:
-    ep = make_episode("drawer_interaction", 3)
+    ep = get_episode("drawer_interaction", 3)
     before = blind_plan(ep.task_id, ep.seed, ep.arm_steps())
     table = {key: dict(seeds) for key, seeds in segment_table().items()}
     for k in range(len(ep.arm_steps())):

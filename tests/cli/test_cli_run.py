@@ -14,7 +14,7 @@ import pytest
 from filelock import FileLock
 
 from vlm_bench.catalog.tasks import all_tasks
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.storage import latest_records
 from vlm_bench.types.plan import UavStep, plan_to_json
 
@@ -78,7 +78,7 @@ def test_perception_conditions_through_the_cli(cli: Cli, tmp_path: Path) -> None
     assert manifest["config"]["scene_as_text"] is True and manifest["config"]["images"] is False
     records = latest_records(out / "records.jsonl")
     for record in records:
-        episode = make_episode(record.task_id, record.seed)
+        episode = get_episode(record.task_id, record.seed)
         assert sorted(record.object_order) == sorted(episode.object_ids())
         assert isinstance(record.first_target_visible, bool)
     assert not (tmp_path / ".snapshots").exists() or not any((tmp_path / ".snapshots").iterdir())
@@ -161,7 +161,7 @@ def test_a_torn_last_record_line_is_reported_then_healed_by_rescore(
 
 
 def test_score_command_json(cli: Cli, tmp_path: Path) -> None:
-    episode = make_episode("standard_pick_place", 1)
+    episode = get_episode("standard_pick_place", 1)
     gt = plan_to_json(episode.gt_plan)
     first_move = next(i for i, s in enumerate(episode.gt_plan) if isinstance(s, UavStep))
     step = episode.gt_plan[first_move]

@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.sim import constants as c
@@ -26,7 +26,7 @@ SIDEWAYS = (1.65, -1.75, 2.55, -2.56, -0.61, 1.28, -1.33)
 def sideways_hand() -> Hand:
     """The hand of a ``standard_pick_place`` seed 0 scene with the arm put at :data:`SIDEWAYS`
     (servo targets there too, fingers open)."""
-    loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
+    loop = SimLoop(build_scene(get_episode("standard_pick_place", 0)))
     hand = Hand(loop)
     out = np.asarray(SIDEWAYS)
     loop.data.qpos[hand.core.ik.qadr] = out

@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.sim.constants import part_joint
@@ -39,7 +39,7 @@ def _goal(pred: str, obj: str, target: str | None = None) -> Goal:
 
 @pytest.fixture(scope="module")
 def pick_place() -> Scene:
-    return build_scene(make_episode("standard_pick_place", 0))
+    return build_scene(get_episode("standard_pick_place", 0))
 
 
 def test_inside_basket_true_after_settling_and_false_beside(pick_place: Scene) -> None:
@@ -84,7 +84,7 @@ def test_on_and_upright_and_off_surface(pick_place: Scene) -> None:
 
 
 def test_drawer_and_knob_predicates() -> None:
-    drawer = build_scene(make_episode("drawer_interaction", 0))
+    drawer = build_scene(get_episode("drawer_interaction", 0))
     goals = (_goal("drawer_open", "top_drawer"), _goal("drawer_closed", "top_drawer"))
     assert check_goals(drawer.episode, drawer.model, drawer.data, goals) == (False, True)
     adr = drawer.model.joint(part_joint("top_drawer")).qposadr[0]
@@ -92,7 +92,7 @@ def test_drawer_and_knob_predicates() -> None:
     mujoco.mj_forward(drawer.model, drawer.data)
     assert check_goals(drawer.episode, drawer.model, drawer.data, goals) == (True, False)
 
-    stove = build_scene(make_episode("hybrid_interaction_stove", 0))
+    stove = build_scene(get_episode("hybrid_interaction_stove", 0))
     knob = (_goal("knob_rotated", "stove_knob"),)
     assert check_goals(stove.episode, stove.model, stove.data, knob) == (False,)
     stove.data.qpos[stove.model.joint(part_joint("stove_knob")).qposadr[0]] = np.radians(90.0)
@@ -108,7 +108,7 @@ def test_unknown_ids_are_false(pick_place: Scene) -> None:
 
 
 def test_on_a_stove_is_measured_at_the_cooktop_not_at_its_knob() -> None:
-    scene = build_scene(make_episode("hybrid_interaction_stove", 0))
+    scene = build_scene(get_episode("hybrid_interaction_stove", 0))
     stove = scene.data.body("stove").xpos.copy()
     _place(scene, "white_bowl", (stove[0] - 0.1, stove[1] + 0.15, stove[2] + 0.795))
     _settle(scene)
@@ -117,7 +117,7 @@ def test_on_a_stove_is_measured_at_the_cooktop_not_at_its_knob() -> None:
 
 
 def test_a_banana_across_a_bowl_is_inside_and_one_above_its_rim_is_not() -> None:
-    scene = build_scene(make_episode("variant_banana_in_bowl", 0))
+    scene = build_scene(get_episode("variant_banana_in_bowl", 0))
     bowl = scene.data.body("blue_bowl").xpos.copy()  # 0.16 m across, 0.07 m tall
     goal = (_goal("inside", "banana", "blue_bowl"),)
     # The 0.19 m banana cannot lie flat in the bowl: it rests on the rim, its middle sunk in.

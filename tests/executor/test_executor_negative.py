@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor import ExecutionResult, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop, Skill
 from vlm_bench.executor.skills.grasping import Picker
@@ -26,7 +26,7 @@ TASK = "color_distractor_green"
 
 @pytest.fixture(scope="module")
 def episode() -> Episode:
-    return make_episode(TASK, 0)
+    return get_episode(TASK, 0)
 
 
 def _run(episode: Episode, plan: list[UavStep | ArmStep]) -> ExecutionResult:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.executor.live_state import episode_now, render_now
@@ -27,7 +27,7 @@ def _same(a: object, b: object) -> bool:
 
 
 def test_a_second_plan_continues_where_the_first_left() -> None:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     live = LiveEpisode(episode)
     first = live.execute(HOP)
     z1 = first.final_uav_pose.pos[2]
@@ -38,7 +38,7 @@ def test_a_second_plan_continues_where_the_first_left() -> None:
 
 
 def test_the_state_now_moves_objects_relative_to_the_uav() -> None:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     live = LiveEpisode(episode)
     before = {e.id: e for e in parse_scene(scene_text(episode_now(live), []))}
     live.execute(HOP)
@@ -55,7 +55,7 @@ def test_the_state_now_moves_objects_relative_to_the_uav() -> None:
 
 
 def test_a_bump_displaces_the_object_on_its_support_as_seeded() -> None:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     shifts = []
     for _ in range(2):
         live = LiveEpisode(episode)
@@ -74,7 +74,7 @@ def test_a_bump_displaces_the_object_on_its_support_as_seeded() -> None:
 
 
 def test_no_bump_at_zero_probability_and_fixed_objects_stay() -> None:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     live = LiveEpisode(episode)
     perturber = Perturber(PerturbConfig(bump=1.0), episode)
     perturber.before_arm_step(live.loop, 0, ArmStep(object="table", skill="push"))
@@ -85,7 +85,7 @@ def test_no_bump_at_zero_probability_and_fixed_objects_stay() -> None:
 
 
 def test_a_slip_drops_the_held_object_once_and_place_fails() -> None:
-    episode = make_episode("place_on_flat_surface", 0)  # a flight with the object in hand
+    episode = get_episode("place_on_flat_surface", 0)  # a flight with the object in hand
     live = LiveEpisode(episode, ExecutorConfig(perturb=PerturbConfig(slip=1.0)))
     plan = [*episode.gt_plan[:-1], UavStep(direction=Direction.UP, distance=0.1)]
     result = live.execute([*plan, episode.gt_plan[-1]])  # two flights with it "in hand"

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.executor.live_snapshot import freeze, thaw
 from vlm_bench.executor.live_state import episode_now
@@ -19,7 +19,7 @@ def _dump(result: object) -> dict[str, object]:
 
 
 def test_a_thawed_episode_continues_bit_for_bit() -> None:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     plan = list(episode.gt_plan)
     pick = next(i for i, s in enumerate(plan) if isinstance(s, ArmStep) and s.skill == "pick")
     first, rest = plan[: pick + 1], plan[pick + 1 :]

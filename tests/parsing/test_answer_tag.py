@@ -62,13 +62,13 @@ def test_the_glm_thinking_card_documents_its_format() -> None:
 def test_a_thinking_runs_repaired_share_does_not_count_clean_answers() -> None:
     import json
 
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
     from vlm_bench.types.plan import plan_to_json
     from vlm_bench.types.records import CachedResponse
     from vlm_bench.types.scores import ScoringConfig
 
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     gt = json.dumps(plan_to_json(episode.gt_plan))
     text = f"<think>{REASONING}</think><answer>{gt}</answer>"
     info = EpisodeInfo("r", "k", "explicit", "glm-4.1v-9b-thinking", "h")

@@ -177,10 +177,10 @@ def test_loc_over_blind_is_s_loc_minus_the_blind_floor_on_the_same_episode(
 ) -> None:
     from vlm_bench import score_output
     from vlm_bench.backends.blind_planner import blind_plan
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.types.plan import plan_to_json
 
-    ep = make_episode("drawer_interaction", 3)
+    ep = get_episode("drawer_interaction", 3)
     gt = plan_to_json(ep.gt_plan)
     blind = json.dumps(plan_to_json(blind_plan(ep.task_id, ep.seed, ep.arm_steps())))
     floor = score_output(ep.task_id, ep.seed, blind).scores.s_loc

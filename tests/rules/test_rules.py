@@ -39,7 +39,7 @@ SEEDS = range(10)
 
 @pytest.fixture(scope="module")
 def episodes() -> list[Episode]:
-    """The materialised episodes of seeds 0-9 (equal to ``make_episode``'s: the drift test in
+    """The materialised episodes of seeds 0-9 (equal to ``get_episode``'s: the drift test in
     tests/episodes checks it)."""
     return [ep for t in all_tasks() for ep in load_materialised(t).episodes if ep.seed in SEEDS]
 

@@ -15,7 +15,7 @@ import pytest
 
 import vlm_bench.api as api
 from vlm_bench.backends import Backend
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.executions import EXECUTION_LOST, MAX_ATTEMPTS, WORKER_DIED
@@ -186,7 +186,7 @@ class _FlakyPool:
 
 
 def _hop_record() -> tuple[Episode, EpisodeRecord]:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     info = EpisodeInfo("run", f"{TASK}/0/explicit", "explicit", "hopper", "h")
     response = CachedResponse(key=info.key, prompt_hash="h", text=HOP)
     return episode, scored_record(info, episode, response, ScoringConfig())

@@ -13,7 +13,7 @@ import pytest
 import vlm_bench.api as api
 import vlm_bench.executor
 from vlm_bench.backends import Backend
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.report import EXEC_VALUES, SUMMARY_COLUMNS
 from vlm_bench.runner import PlanExecutor, episode_noise_seed, record_plan
@@ -207,7 +207,7 @@ def test_rescore_in_a_pool_keeps_the_records_and_their_order(tmp_path: Path) -> 
 
 
 def test_scene_copies_execute_exactly_like_fresh_scenes() -> None:
-    episode = make_episode(TASK, 1)
+    episode = get_episode(TASK, 1)
     plan = [UavStep(direction=Direction.UP, distance=0.2)]
     executor = PlanExecutor(ExecutorConfig(uav_noise=2.0))
     config = executor.config
@@ -243,7 +243,7 @@ def test_only_usable_nonempty_plans_are_executed() -> None:
     from vlm_bench.types.records import CachedResponse
     from vlm_bench.types.scores import ScoringConfig
 
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     info = EpisodeInfo("r", f"{TASK}/0/explicit", "explicit", "m", "h")
 
     def record(text: str) -> EpisodeRecord:
@@ -262,7 +262,7 @@ def test_only_usable_nonempty_plans_are_executed() -> None:
 def test_an_executor_executes_each_plan_on_a_fresh_copy_of_the_episodes_scene() -> None:
     from vlm_bench.types.plan import ArmStep
 
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     executor = PlanExecutor()
     plan: list[UavStep | ArmStep] = [UavStep(direction=Direction.UP, distance=0.1)]
     first, crash = executor.execute(episode, plan)

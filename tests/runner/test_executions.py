@@ -19,7 +19,7 @@ import pytest
 from rich.console import Console
 
 import vlm_bench
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.executions import (
     EXECUTION_LOST,
@@ -67,7 +67,7 @@ def _fields(record: EpisodeRecord, *leave_out: str) -> dict[str, object]:
 def _jobs() -> list[ExecutionJob]:
     jobs = []
     for task in FAST[:2]:
-        ep = make_episode(task, 0)
+        ep = get_episode(task, 0)
         jobs.append(ExecutionJob(task, 0, ExecutorConfig(), tuple(ep.gt_plan)))
         down = (UavStep(direction=Direction.DOWN, distance=0.2),)
         jobs.append(ExecutionJob(task, 0, ExecutorConfig(), down))
@@ -197,7 +197,7 @@ class _HungPool(_FlakyPool):
 
 def _record(task: str) -> tuple[Episode, EpisodeRecord]:
     """The episode and an oracle's scored record of it."""
-    ep = make_episode(task, 0)
+    ep = get_episode(task, 0)
     text = json.dumps(plan_to_json(ep.gt_plan))
     info = EpisodeInfo("run", f"{task}/0/explicit", "explicit", "oracle", "h")
     response = CachedResponse(key=info.key, prompt_hash="h", text=text)

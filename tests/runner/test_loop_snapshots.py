@@ -9,7 +9,7 @@ import pytest
 
 import vlm_bench.api as api
 from tests.runner.test_closed_loop import Hopper
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor import live_snapshot
 from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, execute_rounds
 from vlm_bench.types.closed_loop import PerturbConfig
@@ -22,7 +22,7 @@ SHOW = StateRequest(("overhead", "wrist"), 32, True)
 
 
 def test_a_replan_from_the_snapshot_equals_one_from_re_execution() -> None:
-    episode = make_episode(TASK, 0)
+    episode = get_episode(TASK, 0)
     plan = tuple(episode.gt_plan)
     pick = next(i for i, s in enumerate(plan) if isinstance(s, ArmStep) and s.skill == "pick")
     perturb = PerturbConfig(slip=0.5, bump=0.5)
@@ -47,7 +47,7 @@ def test_a_replan_from_the_snapshot_equals_one_from_re_execution() -> None:
 
 
 def test_no_snapshot_where_no_replan_follows() -> None:
-    plan = tuple(make_episode(TASK, 0).gt_plan)
+    plan = tuple(get_episode(TASK, 0).gt_plan)
     last = execute_rounds(LoopJob(TASK, 0, ExecutorConfig(), (plan[:1],), None))
     assert not last.executions[-1].exec_success and last.snapshot is None
 

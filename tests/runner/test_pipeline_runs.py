@@ -11,7 +11,7 @@ import pytest
 import vlm_bench.api as api
 from vlm_bench.backends import Backend, operational_args
 from vlm_bench.backends.builtin import OracleBackend
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.runner import SnapshotSource
 from vlm_bench.storage import ConfigMismatchError, SnapshotCache, latest_records
@@ -73,7 +73,7 @@ def test_requests_carry_what_the_builtins_need(tmp_path: Path) -> None:
     result = api.run(config, out=tmp_path / "run", backend=fake)
     assert [len(c) for c in fake.calls] == [3, 3, 2]  # 8 episodes in batches of 3
     req = fake.calls[0][0]
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     assert req.id == req.episode_id == "standard_pick_place/0/explicit"
     assert req.meta is not None and req.meta.gt_plan == episode.gt_plan
     assert req.meta.object_ids == tuple(episode.object_ids())
@@ -210,7 +210,7 @@ def test_finished_resume_never_builds_the_backend(tmp_path: Path) -> None:
 
 def test_snapshot_cache_is_shared_and_per_view(tmp_path: Path) -> None:
     cache = SnapshotCache(tmp_path / "snap")
-    episode = make_episode("standard_pick_place", 1)
+    episode = get_episode("standard_pick_place", 1)
     first = SnapshotSource(("uav", "side"), 32, cache=cache)
     images = first.images(episode)
     first.close()
@@ -244,7 +244,7 @@ def test_gt_plan_of_records_matches_the_episode(tmp_path: Path) -> None:
     result = api.run(
         _config(tasks=TASKS[1:], seeds=(1,)), out=tmp_path / "run", backend=CountingOracle()
     )
-    episode = make_episode("tower_stacking", 1)
+    episode = get_episode("tower_stacking", 1)
     assert all(r.gt_plan == plan_to_json(episode.gt_plan) for r in result.records)
     assert all(r.plan == r.gt_plan for r in result.records)
 

@@ -13,7 +13,7 @@ from hypothesis.extra.numpy import arrays
 
 from vlm_bench.catalog.tasks import all_tasks
 from vlm_bench.catalog.world_catalog import environment
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.sim.cameras import WALL_CLEARANCE, framing_points
 from vlm_bench.sim.constants import CAM_OVERHEAD, THIRD_PERSON_CAMERAS
 from vlm_bench.sim.framing import closest_fit, fits, occluded, segment_hits_boxes, view_xyaxes
@@ -91,7 +91,7 @@ def test_segment_hits_boxes_sees_only_boxes_in_between() -> None:
 
 @pytest.fixture(scope="module")
 def scenes() -> list[Scene]:
-    return [build_scene(make_episode(task, 0)) for task in all_tasks()]
+    return [build_scene(get_episode(task, 0)) for task in all_tasks()]
 
 
 def test_overhead_image_up_is_world_y_and_right_is_world_x(scenes: list[Scene]) -> None:

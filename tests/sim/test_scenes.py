@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vlm_bench.catalog.tasks import all_tasks
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAMERAS
 from vlm_bench.sim.labels import project_points
 from vlm_bench.sim.render import SnapshotRenderer
@@ -37,21 +37,21 @@ def _check_views(views: dict[str, np.ndarray], key: str) -> None:
 
 @pytest.mark.parametrize("task", all_tasks(), ids=lambda t: t.id)
 def test_task_scene_builds_and_renders_seed0(task: object, renderer: SnapshotRenderer) -> None:
-    scene = build_scene(make_episode(task, 0))  # type: ignore[arg-type]
+    scene = build_scene(get_episode(task, 0))  # type: ignore[arg-type]
     _check_views(render_scene(scene, size=SIZE, renderer=renderer), f"{scene.episode.task_id}/0")
 
 
 @pytest.mark.parametrize("seed", [3, 7])
 def test_sample_of_other_seeds(seed: int, renderer: SnapshotRenderer) -> None:
     for task in all_tasks()[seed::12]:
-        scene = build_scene(make_episode(task, seed))
+        scene = build_scene(get_episode(task, seed))
         _check_views(render_scene(scene, size=SIZE, renderer=renderer), f"{task.id}/{seed}")
 
 
 def test_overhead_view_frames_plan_objects_and_uav() -> None:
     """The third-person overhead camera sees every object the plan touches and the UAV."""
     for task in all_tasks()[::5]:
-        ep = make_episode(task, 1)
+        ep = get_episode(task, 1)
         scene = build_scene(ep)
         referenced = {s.object for s in ep.arm_steps()}
         pts = [o.pos for o in ep.objects if o.id in referenced]

@@ -7,7 +7,7 @@ import mujoco
 import pytest
 
 from vlm_bench.catalog.tasks import all_tasks
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.sim.robot import robot_geom_ids
 from vlm_bench.sim.scene import build_scene
 
@@ -15,7 +15,7 @@ TASKS = [t.id for t in all_tasks()]
 
 
 def _robot_contacts(task: str, seed: int) -> list[str]:
-    scene = build_scene(make_episode(task, seed))
+    scene = build_scene(get_episode(task, seed))
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
     robot = set(robot_geom_ids(model))
@@ -28,7 +28,14 @@ def _robot_contacts(task: str, seed: int) -> list[str]:
     return out
 
 
+@pytest.mark.parametrize(("task", "seed"), [(t, i % 10) for i, t in enumerate(TASKS)])
+def test_the_robot_starts_clear_of_the_scene(task: str, seed: int) -> None:
+    """Every task at a seed that rotates with it (all ten seeds covered; all 600: slow)."""
+    assert _robot_contacts(task, seed) == []
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(10))
 @pytest.mark.parametrize("task", TASKS)
-def test_the_robot_starts_clear_of_the_scene(task: str, seed: int) -> None:
+def test_every_episode_starts_clear_of_the_scene(task: str, seed: int) -> None:
     assert _robot_contacts(task, seed) == []

@@ -11,7 +11,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.plan_execution import episode_scene
 from vlm_bench.sim.uav_control import GustConfig, UavController
 from vlm_bench.types.execution import ExecutorConfig
@@ -52,7 +52,7 @@ def _reference(ctl: UavController, data: mujoco.MjData, integral: np.ndarray) ->
 
 @pytest.mark.parametrize("gust", [None, GustConfig(force_std=2.0, torque_std=0.3, seed=4)])
 def test_scalar_controller_matches_the_vector_law(gust: GustConfig | None) -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     scene = episode_scene(episode, ExecutorConfig())
     model, data = scene.model, scene.data
     ctl = UavController(model, data, gust=gust)

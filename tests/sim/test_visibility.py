@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from vlm_bench.catalog.tasks import all_tasks
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.sim.constants import CAM_UAV, part_handle_site
 from vlm_bench.sim.footprint import pixel_mask
 from vlm_bench.sim.labels import project_points
@@ -63,7 +63,7 @@ def _target_pixels(scene: Scene, renderer: SnapshotRenderer) -> int:
 
 @pytest.mark.parametrize(("task", "seed"), SAMPLE)
 def test_analytic_uav_camera_is_the_models(task: str, seed: int) -> None:
-    episode = make_episode(task, seed)
+    episode = get_episode(task, seed)
     scene = build_scene(episode)
     cam = scene.model.camera(CAM_UAV).id
     pos, rot = uav_camera_pose(episode.uav_start)
@@ -79,7 +79,7 @@ def test_analytic_uav_camera_is_the_models(task: str, seed: int) -> None:
 
 @pytest.mark.parametrize("task", ["standard_pick_place", "drawer_interaction"])
 def test_hand_made_poses(task: str) -> None:
-    episode = make_episode(task, 0)
+    episode = get_episode(task, 0)
     assert first_target_visible(_facing(episode, 0.0))
     assert first_target_visible(_facing(episode, 25.0))
     assert not first_target_visible(_facing(episode, 60.0))  # off the image's side
@@ -89,7 +89,7 @@ def test_hand_made_poses(task: str) -> None:
 
 
 def test_no_arm_step_is_not_visible() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     bare = episode.model_copy(update={"gt_plan": episode.uav_steps()})
     assert not first_target_visible(bare)
 
@@ -100,7 +100,7 @@ def test_visible_targets_show_up_in_the_uav_view(
 ) -> None:
     """Visible (the reference point projects inside) ⇒ the target's pixels are in the render;
     and the turned-around UAV sees none of it."""
-    episode = make_episode(task, seed)
+    episode = get_episode(task, seed)
     facing = _facing(episode, 0.0)
     assert first_target_visible(facing)
     assert _target_pixels(build_scene(facing), renderer) > 0
@@ -115,7 +115,7 @@ def test_visible_targets_show_up_in_the_uav_view(
 def test_yaw_sweep_matches_the_render(renderer: SnapshotRenderer) -> None:
     """Turning the UAV in place: where the function says not visible, at most the target's edge
     shows (its centre is outside); where visible, it shows."""
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     for yaw in range(-90, 91, 15):
         turned = _facing(episode, float(yaw))
         pixels = _target_pixels(build_scene(turned), renderer)

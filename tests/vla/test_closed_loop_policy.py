@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.types.closed_loop import Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
@@ -20,7 +20,7 @@ HOP = UavStep(direction=Direction.UP, distance=0.1)
 
 
 def test_a_policy_timeout_triggers_a_replan_from_where_it_stopped() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     seen: list[tuple[Episode, Feedback | None]] = []
 
     def planner(now: Episode, feedback: Feedback | None) -> list[UavStep | ArmStep]:

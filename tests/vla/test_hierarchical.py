@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from vlm_bench.episodes import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor import SimLoop, default_skills, execute_plan
 from vlm_bench.executor.plan_execution import execute_move, next_arm_step
@@ -57,7 +57,7 @@ class Recorder:
 
 
 def _loop(seed: int = 0) -> tuple[Episode, SimLoop]:
-    episode = make_episode("standard_pick_place", seed)
+    episode = get_episode("standard_pick_place", seed)
     return episode, SimLoop(build_scene(episode))
 
 
@@ -125,7 +125,7 @@ def test_uav_delta_moves_the_uav_in_the_body_frame(seed: int) -> None:
             gripper=1.0,
         )
 
-    episode = make_episode("standard_pick_place", seed)
+    episode = get_episode("standard_pick_place", seed)
     start = np.array(episode.uav_start.pos)
     loop, reason = _run_step(Recorder(script), seed)
     assert reason is None
@@ -143,7 +143,7 @@ def test_yaw_delta_turns_the_uav() -> None:
             return None
         return VlaAction(dyaw=0.1 if obs.step_index < 5 else 0.0, joints=c.ARM_OBSERVE, gripper=1)
 
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     loop, _ = _run_step(Recorder(script))
     turned = (loop.uav_yaw_deg() - episode.uav_start.yaw_deg + 180) % 360 - 180
     assert turned == pytest.approx(math.degrees(0.5), abs=1.5)
@@ -190,7 +190,7 @@ def test_observation_carries_images_proprioception_and_the_step() -> None:
 
 
 def test_execute_plan_flies_uav_moves_and_hands_arm_steps_to_the_policy() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     policy = Recorder(lambda obs: None if obs.step_index >= 3 else VlaAction.holding(obs.proprio))
     result = execute_plan(
         episode, episode.gt_plan, arm_skills=policy_skills(policy, views=("wrist",), render_size=8)
@@ -210,7 +210,7 @@ def test_execute_plan_flies_uav_moves_and_hands_arm_steps_to_the_policy() -> Non
 
 
 def test_an_unhandled_skill_fails_as_unavailable() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     plan = [ArmStep(object="gray_cube", skill="pick")]
     result = execute_plan(
         episode, plan, arm_skills=policy_skills(lambda o, s: None, skills=("place",), views=())

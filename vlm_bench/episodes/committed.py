@@ -13,6 +13,7 @@ from vlm_bench.catalog.gt_episodes import load_materialised, materialised_path
 from vlm_bench.catalog.tasks import get_task
 from vlm_bench.episodes.generate import make_episode
 from vlm_bench.types.episode import Episode
+from vlm_bench.types.task import TaskSpec
 
 
 @cache
@@ -23,10 +24,12 @@ def _committed(task_id: str) -> dict[int, Episode]:
     return {ep.seed: ep for ep in load_materialised(task).episodes}
 
 
-def get_episode(task_id: str, seed: int) -> Episode:
-    """The committed episode of ``task_id`` and ``seed``, or a freshly drawn one."""
+def get_episode(task: TaskSpec | str, seed: int) -> Episode:
+    """The committed episode of ``task`` (a spec or its id) and ``seed``, or a freshly drawn
+    one."""
+    task_id = task if isinstance(task, str) else task.id
     if isinstance(seed, int) and not isinstance(seed, bool):
         found = _committed(task_id).get(seed)
         if found is not None:
             return found
-    return make_episode(task_id, seed)
+    return make_episode(task, seed)

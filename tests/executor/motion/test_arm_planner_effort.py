@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from incidents import incident_episode
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.motion.arm_core import ArmCore
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionChecker, CollisionQuery
@@ -75,7 +75,7 @@ def test_pruned_planning_executes_as_full_counting_does(monkeypatch: pytest.Monk
 def test_a_contact_that_lasts_is_reported_again_after_each_take() -> None:
     """Fingers closed on the held object touch it at every step; each call to
     ``take_collisions`` after a control step reports it, not only the first."""
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     loop = SimLoop(build_scene(episode))
     execution = PlanExecution(episode, loop, default_skills(loop))
     for index in range(2):  # fly there, pick

@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import (
     Carried,
@@ -82,7 +82,7 @@ def _reference(
     [("standard_pick_place", None), ("drawer_interaction", None), ("variant_green_nut", "nut")],
 )
 def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str | None) -> None:
-    episode = make_episode(task, 0)
+    episode = get_episode(task, 0)
     scene = episode_scene(episode, ExecutorConfig())
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
@@ -120,7 +120,7 @@ def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str
 
 
 def test_cache_follows_the_scene() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     scene = episode_scene(episode, ExecutorConfig())
     model, data = scene.model, scene.data
     mujoco.mj_forward(model, data)
@@ -137,7 +137,7 @@ def test_cache_follows_the_scene() -> None:
 
 
 def test_world_pairs_are_never_reported() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     scene = episode_scene(episode, ExecutorConfig())
     model = __import__("copy").copy(scene.model)
     model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)  # resting objects report

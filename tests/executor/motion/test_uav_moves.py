@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.episodes.gt_builder import DRAWER_PULL
 from vlm_bench.executor.motion.uav_moves import move_target
 from vlm_bench.executor.plan_execution import execute_move, execute_plan, next_arm_step
@@ -38,7 +38,7 @@ CASES = [
 
 @pytest.mark.parametrize(("task", "seed"), CASES)
 def test_gt_moves_end_at_gt_poses(task: str, seed: int) -> None:
-    episode = make_episode(task, seed)
+    episode = get_episode(task, seed)
     scene = build_scene(episode)
     loop = SimLoop(scene)
     refs = StepReferences(episode, scene.model)
@@ -91,7 +91,7 @@ def test_move_target_stops_at_standoff_and_altitude() -> None:
 
 def test_execute_plan_fails_unavailable_skill_and_skips_rest() -> None:
     """A skill set without ``push`` (e.g. a user's policy skills) fails that step."""
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     plan = [
         UavStep(direction=Direction.UP, distance=0.1),
         ArmStep(object="gray_cube", skill="push"),
@@ -113,7 +113,7 @@ def test_instability_is_a_failed_result(tmp_path: Path, monkeypatch: pytest.Monk
     defaults = mujoco.MjLogConfig.get()
     defaults.logto_file = True
     defaults.set()
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     scene = build_scene(episode)
     scene.data.qvel[:] = np.nan
     result = execute_plan(episode, [UavStep(direction=Direction.UP)], scene=scene)

@@ -7,7 +7,7 @@ import math
 import pytest
 from incidents import incident_episode
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.articulation import PULL_MIN, TURN_MIN_DEG
@@ -22,7 +22,7 @@ def _joint(loop: SimLoop, part: str) -> float:
 
 @pytest.fixture(scope="module")
 def drawer() -> Episode:
-    return make_episode("spatial_ref_middle_drawer", 0)
+    return get_episode("spatial_ref_middle_drawer", 0)
 
 
 def test_pull_then_close_opens_and_shuts_the_drawer(drawer: Episode) -> None:
@@ -61,7 +61,7 @@ def test_pull_from_too_far_away_fails_out_of_reach(drawer: Episode) -> None:
 
 
 def test_rotate_turns_the_knob_past_90_degrees() -> None:
-    episode = make_episode("hybrid_interaction_stove", 0)
+    episode = get_episode("hybrid_interaction_stove", 0)
     angles: list[float] = []
 
     def watch(loop: SimLoop) -> None:

@@ -9,7 +9,7 @@ import pytest
 from incidents import incident_episode
 
 from vlm_bench.catalog.world_catalog import object_kind
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor.goals import check_goals
 from vlm_bench.executor.motion import arm_core as arm_core_module
 from vlm_bench.executor.motion.arm_planner import MAX_ASSIST, WORK_RADII
@@ -30,7 +30,7 @@ from vlm_bench.types.world import ObjectKind
 
 
 def test_gt_plan_container_geometry_bowl_seed0_reaches_goal() -> None:
-    episode = make_episode("container_geometry_bowl", 0)
+    episode = get_episode("container_geometry_bowl", 0)
     scene = build_scene(episode)
     result = execute_plan(episode, episode.gt_plan, scene=scene)
     assert result.exec_success, result.failure_reason
@@ -42,7 +42,7 @@ def test_gt_plan_container_geometry_bowl_seed0_reaches_goal() -> None:
 
 
 def test_place_without_pick_fails_with_reason() -> None:
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     plan = [episode.gt_plan[0], episode.gt_plan[2]]
     result = execute_plan(episode, plan)
     assert result.steps[1].status == "failed"
@@ -52,7 +52,7 @@ def test_place_without_pick_fails_with_reason() -> None:
 def test_planning_checks_the_held_object_too() -> None:
     """Collision checks move a held object with the hand: lowered until the cube (not the
     fingers) reaches into the table, only the check that carries it sees the table."""
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     scene = build_scene(episode)
     loop = SimLoop(scene)
     execution = PlanExecution(episode, loop, default_skills(loop))
@@ -83,7 +83,7 @@ def test_an_object_lost_on_the_way_to_the_release_fails_the_place(
     as a placed object."""
     from vlm_bench.executor.motion.joint_moves import hold_with_gripper
 
-    episode = make_episode("standard_pick_place", 0)
+    episode = get_episode("standard_pick_place", 0)
     glide = ArmLines.glide
 
     def loose(lines: ArmLines, *args: object, **kwargs: object) -> bool:
@@ -140,7 +140,7 @@ def test_a_steady_line_refuses_a_joint_whip() -> None:
     from vlm_bench.executor.motion.ik import TOP_DOWN_SEED
     from vlm_bench.executor.motion.joint_moves import joint_move
 
-    loop = SimLoop(build_scene(make_episode("standard_pick_place", 0)))
+    loop = SimLoop(build_scene(get_episode("standard_pick_place", 0)))
     joint_move(loop, np.asarray(TOP_DOWN_SEED), 2.0, c.GRIPPER_OPEN)
     arm = Hand(loop)
     tcp, rot = arm.tcp()
@@ -425,7 +425,7 @@ def test_a_planned_uav_turn_swings_the_arm_about_its_base() -> None:
     """A base move's yaw turns the UAV's heading (rad): IK and the collision checks see the
     arm, hung under the UAV's centre, turned about the vertical through its base;
     :meth:`Hand.shift_base` flies the turn and its undo brings the heading back."""
-    episode = make_episode("drawer_interaction", 0)
+    episode = get_episode("drawer_interaction", 0)
     loop = SimLoop(build_scene(episode))
     arm = Hand(loop)
     data = loop.data

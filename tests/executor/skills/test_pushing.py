@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from incidents import incident_episode
 
-from vlm_bench.episodes.generate import make_episode
+from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
@@ -13,7 +13,7 @@ from vlm_bench.types.plan import ArmStep
 
 @pytest.fixture(scope="module")
 def push_cube() -> Episode:
-    return make_episode("non_prehensile_push_cube", 0)
+    return get_episode("non_prehensile_push_cube", 0)
 
 
 def test_push_next_to_target_moves_the_cube_without_lifting_it(push_cube: Episode) -> None:
@@ -50,7 +50,7 @@ def test_push_of_what_cannot_move_fails_with_a_reason(
 
 
 def test_push_without_target_takes_the_box_off_the_table() -> None:
-    episode = make_episode("clear_desk_push_box", 0)
+    episode = get_episode("clear_desk_push_box", 0)
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
     assert result.displacement["white_box"] < 0.01  # the look-alike stays
