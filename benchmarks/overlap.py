@@ -31,6 +31,7 @@ import tempfile
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import ClassVar
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 os.environ.setdefault("MUJOCO_GL", "egl")
@@ -65,36 +66,32 @@ CARRY_TASKS = (
 """Tasks whose GT flies with an object in the hand (slips happen there: closed loop)."""
 
 
-class SlowOracle(OracleBackend):
+class _Slow:
+    """A built-in planner answering each batch after ``latency`` seconds (mixed in first)."""
+
+    name: ClassVar[str]
+
+    def __init__(self, latency: float) -> None:
+        super().__init__(self.name)  # type: ignore[call-arg]
+        self.latency = latency
+
+    def generate(
+        self, requests: Sequence[GenerationRequest], config: GenerationConfig
+    ) -> list[GenerationResult]:
+        time.sleep(self.latency)
+        return super().generate(requests, config)  # type: ignore[misc,no-any-return]
+
+
+class SlowOracle(_Slow, OracleBackend):
     """The oracle, answering each batch after ``latency`` seconds."""
 
     name = "oracle"
 
-    def __init__(self, latency: float) -> None:
-        super().__init__("oracle")
-        self.latency = latency
 
-    def generate(
-        self, requests: Sequence[GenerationRequest], config: GenerationConfig
-    ) -> list[GenerationResult]:
-        time.sleep(self.latency)
-        return super().generate(requests, config)
-
-
-class SlowRules(RulesBackend):
+class SlowRules(_Slow, RulesBackend):
     """The rules planner, answering each batch after ``latency`` seconds."""
 
     name = "rules"
-
-    def __init__(self, latency: float) -> None:
-        super().__init__("rules")
-        self.latency = latency
-
-    def generate(
-        self, requests: Sequence[GenerationRequest], config: GenerationConfig
-    ) -> list[GenerationResult]:
-        time.sleep(self.latency)
-        return super().generate(requests, config)
 
 
 def _run(
