@@ -58,6 +58,18 @@ def test_oracle_run_scores_100_everywhere(cli: Cli, tmp_path: Path) -> None:
     assert (out / "summary.md").read_text().count("| oracle |") == 3
 
 
+@pytest.mark.parametrize("env", ["FORCE_COLOR", "TTY_COMPATIBLE"])
+def test_a_redirected_summary_is_not_wrapped_when_colour_is_forced(
+    cli: Cli, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, env: str
+) -> None:
+    # rich calls a redirected stream a terminal under these variables (as in a CI log or a
+    # nohup shell); the summary still takes its width from the stream, not 80 columns.
+    monkeypatch.setenv(env, "1")
+    printed = cli.invoke(*_run_args(cli, tmp_path / "run", "oracle", FEW[:1], seeds="0"))
+    assert re.search(r"│ oracle │ explicit │( 100\.0 │){6}", printed), printed
+    assert "\x1b[" not in printed  # a log file gets no colour codes
+
+
 def test_random_run_scores_far_below(cli: Cli, tmp_path: Path) -> None:
     out = tmp_path / "random"
     cli.invoke(*_run_args(cli, out, "random", FEW))

@@ -4,13 +4,34 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
+if TYPE_CHECKING:
+    from rich.console import Console
+
 PIPE_WIDTH = 200
 """Columns of tables printed to a pipe or file (no terminal width to respect): nothing is cut."""
+
+
+def table_console(console: Console) -> Console:
+    """``console`` where it writes to a terminal, else one :data:`PIPE_WIDTH` wide without colour.
+
+    Decided by the file's own ``isatty()``, not rich's ``is_terminal``, which ``FORCE_COLOR`` or
+    ``TTY_COMPATIBLE`` turn on for a redirected stream (and would then wrap a log at 80 columns).
+    """
+    from rich.console import Console
+
+    isatty = getattr(console.file, "isatty", None)
+    try:
+        tty = bool(isatty()) if isatty is not None else False
+    except ValueError:  # a closed stream
+        tty = False
+    return console if tty else Console(file=console.file, width=PIPE_WIDTH, color_system=None)
+
 
 MAX_SEED = 2**32 - 1
 """Largest episode seed (seeds are stored as integers every reader handles)."""

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.console import Console
 
-from vlm_bench.cli.options import PIPE_WIDTH
+from vlm_bench.cli.options import PIPE_WIDTH, table_console
 
 if TYPE_CHECKING:
     from vlm_bench.report.contents import Report
@@ -122,10 +122,8 @@ def report(
         buffer = io.StringIO()
         _print_terminal(result, Console(file=buffer, width=PIPE_WIDTH, color_system=None))
         tables = buffer.getvalue()
-    elif not console.is_terminal:  # piped: no terminal width to respect, nothing cut
-        _print_terminal(result, Console(width=PIPE_WIDTH, color_system=None))
     else:
-        _print_terminal(result, console)
+        _print_terminal(result, table_console(console))
     if options.out is None and isinstance(tables, str):
         sys.stdout.write(tables)
     if options.format != "terminal" or options.out is not None:

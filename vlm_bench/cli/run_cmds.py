@@ -13,13 +13,13 @@ from rich.console import Console
 
 from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
 from vlm_bench.cli.options import (
-    PIPE_WIDTH,
     finite,
     parse_seed,
     parse_seeds,
     parse_suite,
     parse_variant,
     perturb_options,
+    table_console,
 )
 from vlm_bench.cli.prompt_options import (
     DEFAULT_BATCH_SIZE,
@@ -126,7 +126,7 @@ def _print_summary(result: RunResult) -> None:
     from vlm_bench.types.execution import FailureCode
 
     # Piped: no terminal width to respect, so the table is not wrapped or cut.
-    shown = console if console.is_terminal else Console(width=PIPE_WIDTH, color_system=None)
+    shown = table_console(console)
     shown.print(summary_rich(result.summary, title=result.run_id, width=shown.width))
     stats = result.stats
     line = f"{result.run_dir}: summary.md, summary.csv, records.jsonl ({stats.total} episodes"
