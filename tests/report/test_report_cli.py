@@ -129,3 +129,14 @@ def test_the_report_command_gives_the_gallery_its_views(
     result = cli.result("report", str(real_runs["mock"]), "--gallery", str(gallery), "--no-render")
     assert result.exit_code == 0, result.output
     assert len(list(gallery.rglob("img/*.jpg"))) == 4 * 4  # from the runs' snapshot cache
+
+
+def test_the_report_command_defaults_are_the_report_options_defaults() -> None:
+    import inspect
+
+    from vlm_bench.cli.report_cmd import report
+    from vlm_bench.report.report_options import ReportOptions
+
+    params = inspect.signature(report).parameters
+    for name in ("n_boot", "seed", "mixed_versions", "inline_images"):
+        assert params[name].default == ReportOptions.model_fields[name].default, name

@@ -79,8 +79,10 @@ def report(
         bool,
         typer.Option("--render/--no-render", help="Gallery: render views the cache lacks."),
     ] = True,
-    n_boot: Annotated[int, typer.Option(help="Bootstrap replicates.")] = 2000,
-    seed: Annotated[int, typer.Option(help="Bootstrap seed.")] = 0,
+    n_boot: Annotated[
+        int, typer.Option(help="Bootstrap replicates.")
+    ] = 2000,  # = ReportOptions (a test holds them equal)
+    seed: Annotated[int, typer.Option(help="Bootstrap seed.")] = 0,  # = ReportOptions
     mixed_versions: Annotated[
         bool,
         typer.Option(

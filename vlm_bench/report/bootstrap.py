@@ -19,6 +19,7 @@ import numpy as np
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
+from vlm_bench.report.report_options import BOOT_SEED, CI_LEVEL, N_BOOT
 from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns
 
 CI_METRICS = ("S_plan", "S_loc", "S_obj", "S_skill", "S_total", "Succ")
@@ -120,9 +121,9 @@ def bootstrap_cis(
     by: By = "model",
     grouping: Grouping = SUITES,
     metrics: Sequence[str] | None = None,
-    n_boot: int = 2000,
-    seed: int = 0,
-    level: float = 0.95,
+    n_boot: int = N_BOOT,
+    seed: int = BOOT_SEED,
+    level: float = CI_LEVEL,
 ) -> pd.DataFrame:
     """Percentile intervals of every table value, clustered by task (see the module docstring).
 

@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
 from vlm_bench.report.bootstrap import percentile_interval
+from vlm_bench.report.report_options import BOOT_SEED, CI_LEVEL, N_BOOT
 from vlm_bench.report.sections import Section
 from vlm_bench.report.text import with_ci
 from vlm_bench.storage import RunPaths, latest_records
@@ -66,7 +67,7 @@ def _ks(loops: pd.DataFrame) -> list[int]:
 
 
 def succ_at_k(
-    loops: pd.DataFrame, n_boot: int = 1000, seed: int = 0, level: float = 0.95
+    loops: pd.DataFrame, n_boot: int = N_BOOT, seed: int = BOOT_SEED, level: float = CI_LEVEL
 ) -> pd.DataFrame:
     """Succ@k per run and instruction with task-clustered bootstrap intervals (columns run,
     instruction, k, value, lo, hi, n)."""

@@ -7,6 +7,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.report.groups import SUITES, Grouping
 from vlm_bench.report.paired import paired_table
+from vlm_bench.report.report_options import BOOT_SEED, N_BOOT
 from vlm_bench.report.summary import By, by_columns, system_order, system_rows
 
 TIERS = ("valid", "repaired", "invalid")
@@ -116,8 +117,8 @@ def loc_over_blind_run(
     frame: pd.DataFrame,
     by: By = "run",
     grouping: Grouping = SUITES,
-    n_boot: int = 2000,
-    seed: int = 0,
+    n_boot: int = N_BOOT,
+    seed: int = BOOT_SEED,
 ) -> pd.DataFrame:
     """S_loc of every system minus a ``blind`` run's S_loc on their common episodes.
 

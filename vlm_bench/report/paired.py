@@ -26,6 +26,7 @@ from pydantic import Field
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.report.bootstrap import Episodes, cell_estimates, multiplicities, percentile_interval
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
+from vlm_bench.report.report_options import BOOT_SEED, CI_LEVEL, N_BOOT
 from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns, system_order, system_rows
 from vlm_bench.types.base import Frozen
 
@@ -105,9 +106,9 @@ def paired_comparison(
     metric: str = "S_total",
     by: By = "run",
     grouping: Grouping = SUITES,
-    n_boot: int = 2000,
-    seed: int = 0,
-    level: float = 0.95,
+    n_boot: int = N_BOOT,
+    seed: int = BOOT_SEED,
+    level: float = CI_LEVEL,
 ) -> PairedComparison:
     """Compare system ``a`` with ``b`` on their common answered episodes.
 
@@ -168,9 +169,9 @@ def paired_table(
     metrics: Sequence[str] = ("S_total", "Succ"),
     by: By = "run",
     grouping: Grouping = SUITES,
-    n_boot: int = 2000,
-    seed: int = 0,
-    level: float = 0.95,
+    n_boot: int = N_BOOT,
+    seed: int = BOOT_SEED,
+    level: float = CI_LEVEL,
 ) -> pd.DataFrame:
     """Every other system against ``reference``, one row per system × metric
     (the fields of :class:`PairedComparison`)."""

@@ -10,6 +10,13 @@ from pydantic import Field, ValidationError, model_validator
 from vlm_bench.errors import option_error
 from vlm_bench.types.base import Frozen
 
+N_BOOT = 2000
+"""Bootstrap replicates of every interval a report gives, unless asked otherwise."""
+BOOT_SEED = 0
+"""The bootstrap's resampling seed: the same runs give the same intervals."""
+CI_LEVEL = 0.95
+"""Coverage of the intervals."""
+
 ReportFormat = Literal["terminal", "markdown", "csv", "parquet", "latex"]
 FORMATS: tuple[ReportFormat, ...] = ("terminal", "markdown", "csv", "parquet", "latex")
 GroupingChoice = Literal["suites", "paper", "both"]
@@ -61,9 +68,9 @@ class ReportOptions(Frozen):
         description="Gallery: render views missing from the snapshot cache (the CLI's view "
         "source does; the report itself reads run folders only).",
     )
-    n_boot: int = Field(default=2000, ge=100, le=100_000, description="Bootstrap replicates.")
-    seed: int = Field(default=0, ge=0, description="Bootstrap seed.")
-    level: float = Field(default=0.95, gt=0.5, lt=1.0, description="Interval coverage.")
+    n_boot: int = Field(default=N_BOOT, ge=100, le=100_000, description="Bootstrap replicates.")
+    seed: int = Field(default=BOOT_SEED, ge=0, description="Bootstrap seed.")
+    level: float = Field(default=CI_LEVEL, gt=0.5, lt=1.0, description="Interval coverage.")
     mixed_versions: bool = Field(
         default=False, description="Accept runs of different benchmark versions in one table."
     )
