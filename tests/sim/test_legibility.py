@@ -9,8 +9,8 @@ framing (:mod:`vlm_bench.sim.legible_views`); these tests check the rendered ima
 measures a subset (twelve tasks spread over the suites and over seeds 1-9, the three
 small-object examples of the issue, and three seed-0 episodes the close-up made legible); all
 600 episodes are ``slow`` (``pytest -m slow``); one renders a pixel under the bound, open work:
-jargon_vision_sensor seed 9, a lidar at 11 px, kept as the most legible of its layouts though
-its estimate (12.4 px) is short of the generator's margin. The same measures, with a summary,
+jargon_vision_sensor seed 9, a lidar at 11 px: the UAV starts 0.25 m from it and hides it in
+the overhead view, which the estimate (12.4 px there) does not model. The same measures, with a summary,
 come from ``benchmarks/view_legibility.py``.
 """
 
