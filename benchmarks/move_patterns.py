@@ -5,7 +5,9 @@ Usage: ``python benchmarks/move_patterns.py [--seeds 0-9] [--generate]``
 Reads the materialised GT plans (``--generate``: builds the episodes instead) and prints:
 
 * per task, its *vertical patterns*: the ``up``/``down`` moves of each segment (the moves before
-  one ARM step) as one tuple per seed; the count of tasks with two or more distinct patterns;
+  one ARM step) as one tuple per seed; the count of tasks with two or more distinct patterns,
+  and of those whose later segments alone (after the first) show two or more (tables of
+  different heights);
 * how balanced the horizontal moves are per task: for the first horizontal move of a plan and
   for every later one, the share of seeds a leave-one-seed-out guess gets right (the most
   frequent direction the task's other seeds have at that segment; ties to the earlier
@@ -66,17 +68,19 @@ def main() -> None:
     args = parser.parse_args()
     table = plan_segments(_seeds(args.seeds), args.generate)
 
-    varied = 0
+    varied = later = 0
     print("task: vertical patterns over seeds (count)")
     for task, by_seed in table.items():
         patterns = Counter(vertical_pattern(s) for s in by_seed.values())
         varied += len(patterns) >= 2
+        later += len({vertical_pattern(s[1:]) for s in by_seed.values()}) >= 2
         shown = "; ".join(
             f"{'|'.join(','.join(d.value for d in seg) or '-' for seg in p)} x{n}"
             for p, n in patterns.most_common()
         )
         print(f"  {task}: {len(patterns)} pattern(s): {shown}")
     print(f"tasks with >= 2 vertical patterns: {varied} of {len(table)}")
+    print(f"tasks with >= 2 vertical patterns after the first segment: {later} of {len(table)}")
 
     hits: dict[str, list[bool]] = defaultdict(list)
     top_share: dict[str, list[float]] = defaultdict(list)

@@ -24,7 +24,7 @@ def _score(ep: Episode, views: dict) -> float:  # type: ignore[type-arg]
 
 
 def test_a_legible_episode_keeps_the_standard_framing() -> None:
-    ep = _episode("cross_color_sorting", 5)
+    ep = _episode("standard_pick_place", 3)
     standard, shown = third_person_views(ep), legible_views(ep)
     assert _score(ep, standard) >= 1.0
     for name, view in standard.items():
@@ -32,9 +32,9 @@ def test_a_legible_episode_keeps_the_standard_framing() -> None:
 
 
 def test_a_close_up_enlarges_the_least_legible_object_and_frames_the_work_area() -> None:
-    """function_detergent seed 0 (canonical layout, two tables, UAV 1.3 m or more away) shows
-    its cleanser at about half the bound in the standard framing."""
-    ep = _episode("function_detergent", 0)
+    """variant_banana_in_bowl seed 0 (canonical layout, UAV 1.3 m or more away) shows its
+    least legible object at about half the bound in the standard framing."""
+    ep = _episode("variant_banana_in_bowl", 0)
     standard, shown = third_person_views(ep), legible_views(ep)
     assert _score(ep, standard) < 0.6
     assert _score(ep, shown) > 1.5 * _score(ep, standard)

@@ -36,6 +36,19 @@ def test_bolts_and_nuts_are_small_parts_cubes_and_cups_are_not() -> None:
     assert (min_pixels("bolt"), min_pixels("cube")) == (6, 12)
 
 
+@pytest.mark.parametrize(
+    ("estimate", "legible"),
+    [(13.4, False), (12.2, False), (12.0, False), (14.0, True)],  # the first three rendered 11
+)
+def test_an_estimate_just_over_the_bound_is_not_judged_legible(
+    estimate: float, legible: bool
+) -> None:
+    ep = _episode("deformable_object_banana", 0)
+    sizes = {oid: {CAM_OVERHEAD: 40.0, CAM_SIDE: 40.0} for oid in task_objects(ep)}
+    sizes["banana"] = {CAM_OVERHEAD: 7.2, CAM_SIDE: estimate}
+    assert (legibility_score(ep, sizes) >= 1.0) is legible
+
+
 def test_a_farther_uav_start_shrinks_every_task_object() -> None:
     ep = _episode("small_object_bolt", 7)
     near, far = object_pixel_sizes(ep), object_pixel_sizes(_moved_start(ep, 1.5))

@@ -19,7 +19,7 @@ import numpy as np
 from vlm_bench.catalog.tasks import get_task, task_index
 from vlm_bench.catalog.world_catalog import environment, object_kind
 from vlm_bench.episodes.gt_builder import AmbiguousGeometry, GroundTruthBuilder
-from vlm_bench.episodes.layout import part_refs, place_objects
+from vlm_bench.episodes.layout import part_refs, place_objects, support_kinds
 from vlm_bench.episodes.plane_geometry import point_rect_distance, rect_corners
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
@@ -55,6 +55,11 @@ def first_sector(task_id: str, seed: int) -> int:
 
 def _rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
     return np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt])
+
+
+def _support_rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
+    """Draws the tables' heights apart from the layout's jitter (same jitter, any heights)."""
+    return np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt, 7_919])
 
 
 def vertical_start(task_id: str, seed: int) -> int:
@@ -185,7 +190,8 @@ def _candidates(task: TaskSpec, seed: int, reasons: dict[str, int]) -> Iterator[
     for attempt in range(MAX_ATTEMPTS):
         rng = _rng(task.id, seed, attempt)
         try:
-            objects = place_objects(task, None if seed == 0 else rng)
+            kinds = support_kinds(task, None if seed == 0 else _support_rng(task.id, seed, attempt))
+            objects = place_objects(task, None if seed == 0 else rng, kinds)
             parts = part_refs(objects)
             builder = GroundTruthBuilder(objects, parts)
             target, front = builder.first_reference(task.arm_steps)

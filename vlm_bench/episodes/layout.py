@@ -22,6 +22,10 @@ GRIPPER_SPAN = 0.075  # m: widest an object may be for the open gripper to close
 HAND_CLEARANCE = 0.08  # m: from a long object to a taller neighbour, for the closing hand
 PALM_CLEARANCE = 0.03  # m: from an object the open hand fits around to a taller neighbour
 RIM_GRASPED = frozenset({"bowl", "mug"})  # held by the rim, from whichever side is free
+TABLE_KINDS = ("low_table", "table", "high_table")
+"""Height variants of a task file's ``table`` (tops 0.40, 0.75, 1.10 m in the catalogue), one
+drawn per table per layout at seeds 1-9. Their tops lie 0.35 m apart: working altitudes differ
+by the vertical threshold (0.20 m) plus more than its margin (0.10 m) either way."""
 
 
 def _support_top(support: EpisodeObject) -> float:
@@ -55,8 +59,20 @@ def set_of_marks_labels(objects: tuple[PlacedObject, ...]) -> dict[str, str]:
     return {o.id: o.id for o in objects if counts[key(o)] > 1}
 
 
-def place_objects(task: TaskSpec, rng: np.random.Generator | None) -> list[EpisodeObject]:
-    """Poses of every object; ``rng=None`` gives the canonical (seed 0) layout.
+def support_kinds(task: TaskSpec, rng: np.random.Generator | None) -> dict[str, str]:
+    """Kind of each ``table`` in ``task``: one of :data:`TABLE_KINDS` drawn independently per
+    table, or the task file's ``table`` with ``rng=None`` (the canonical layout)."""
+    tables = [o.id for o in task.objects if o.kind == "table"]
+    if rng is None:
+        return {t: "table" for t in tables}
+    return {t: TABLE_KINDS[int(rng.integers(len(TABLE_KINDS)))] for t in tables}
+
+
+def place_objects(
+    task: TaskSpec, rng: np.random.Generator | None, kinds: dict[str, str] | None = None
+) -> list[EpisodeObject]:
+    """Poses of every object; ``rng=None`` gives the canonical (seed 0) layout. ``kinds`` maps
+    an object id to the kind it is built as (a table's height variant); others keep the task's.
 
     Raises ``ValueError`` when a jittered layout overlaps or leaves a support (callers resample).
     """
@@ -64,7 +80,7 @@ def place_objects(task: TaskSpec, rng: np.random.Generator | None) -> list[Episo
     placed: dict[str, EpisodeObject] = {}
     shift: dict[str, tuple[float, float]] = {"floor": (0.0, 0.0)}
     for spec in _ordered(task.objects):
-        kind = object_kind(spec.kind)
+        kind = object_kind((kinds or {}).get(spec.id, spec.kind))
         jx = jy = dyaw = 0.0
         if rng is not None and not spec.fixed and kind.movable:
             jx, jy = rng.uniform(-POS_JITTER, POS_JITTER, size=2)
@@ -75,7 +91,7 @@ def place_objects(task: TaskSpec, rng: np.random.Generator | None) -> list[Episo
         z = 0.0 if spec.on == "floor" else _support_top(placed[spec.on])
         placed[spec.id] = EpisodeObject(
             id=spec.id,
-            kind=spec.kind,
+            kind=kind.name,
             color=spec.color or kind.default_color or "gray",
             pos=(round(x, 4), round(y, 4), round(z, 4)),
             yaw_deg=round(spec.yaw_deg + dyaw, 2),

@@ -1,4 +1,4 @@
-"""Static furniture: the table."""
+"""Static furniture: the table and its height variants (the same build, the kind's height)."""
 
 from __future__ import annotations
 
@@ -12,6 +12,8 @@ from vlm_bench.types.world import ObjectKind
 TOP_THICKNESS = 0.04
 
 
+@OBJECT_BUILDERS.register("high_table")
+@OBJECT_BUILDERS.register("low_table")
 @OBJECT_BUILDERS.register("table")
 def build_table(
     spec: mujoco.MjSpec,
