@@ -80,11 +80,10 @@ class _Timers:
 
 def parts(episodes: list[tuple[str, int]]) -> None:
     """Execute ``episodes`` with timers and print the table of parts."""
-    import mink
     import mujoco
 
     from vlm_bench.executor import sim_loop
-    from vlm_bench.executor.motion import collision_check, ik
+    from vlm_bench.executor.motion import collision_check, ik, ik_qp
     from vlm_bench.sim import uav_control
 
     timers = _Timers()
@@ -93,7 +92,7 @@ def parts(episodes: list[tuple[str, int]]) -> None:
     timers.wrap(sim_loop.SimLoop, "_record_contacts", "contacts")
     timers.wrap(mujoco, "mj_step", "mj_step")  # the process ends with the table: not undone
     timers.wrap(ik.ArmIk, "_solve", "ik")
-    timers.wrap(mink, "solve_ik", "ik_iterations")
+    timers.wrap(ik_qp.IkQp, "velocity", "ik_iterations")
     timers.wrap(collision_check.CollisionChecker, "collisions", "checks")
     timers.wrap(collision_check.CollisionChecker, "_collide", "computed")
     wall = sim = 0.0

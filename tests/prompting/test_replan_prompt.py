@@ -45,18 +45,19 @@ INCOMPLETE = Feedback(
     held=None,
     incomplete=True,
 )
+STATE = "0" * 64  # a state digest
 
 
 def test_golden_replan_prompt() -> None:
     config = PromptConfig(scene_as_text=True)
-    prompt = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED)
+    prompt = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED, STATE)
     _check_golden("replan_default.txt", render_text(prompt))
 
 
 def test_replan_keeps_the_first_prompts_system_message_and_rules() -> None:
     config = PromptConfig()
     first = build_prompt(_episode(), IMAGES, config)
-    replan = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED)
+    replan = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED, STATE)
     assert replan.system == first.system and replan.views() == first.views()
     text = render_text(replan)
     assert '"skill": "place"}: failed (slipped): gray_cube slipped from it' in text
@@ -64,19 +65,32 @@ def test_replan_keeps_the_first_prompts_system_message_and_rules() -> None:
 
 
 def test_unmet_goals_are_reported_without_naming_them() -> None:
-    replan = build_replan_prompt(_episode(), _episode(), IMAGES, PromptConfig(), INCOMPLETE)
+    replan = build_replan_prompt(_episode(), _episode(), IMAGES, PromptConfig(), INCOMPLETE, STATE)
     user = render_text(replan).split("### user", 1)[1]
     assert "Every step succeeded, but the task is not complete." in user
     assert "inside" not in user and "goal" not in user
 
 
-def test_the_hash_covers_the_feedback_and_the_views_pixels() -> None:
+def test_the_hash_covers_the_feedback_and_the_state_not_the_pixels() -> None:
     config = PromptConfig()
-    base = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED)
-    other = build_replan_prompt(_episode(), _episode(), IMAGES, config, INCOMPLETE)
-    darker = {v: png for v, png in IMAGES.items()}
-    darker["uav"] = IMAGES["wrist"] if IMAGES["wrist"] != IMAGES["uav"] else b"\x89PNG\r\n\x1a\nX"
-    repainted = build_replan_prompt(_episode(), _episode(), darker, config, FAILED)
+    base = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED, STATE)
+    other = build_replan_prompt(_episode(), _episode(), IMAGES, config, INCOMPLETE, STATE)
+    moved = build_replan_prompt(_episode(), _episode(), IMAGES, config, FAILED, "1" * 64)
     first = build_prompt(_episode(), IMAGES, config)
-    hashes = {base.prompt_hash, other.prompt_hash, repainted.prompt_hash, first.prompt_hash}
+    hashes = {base.prompt_hash, other.prompt_hash, moved.prompt_hash, first.prompt_hash}
     assert len(hashes) == 4
+    unrendered = build_replan_prompt(_episode(), _episode(), None, config, FAILED, STATE)
+    assert unrendered.prompt_hash == base.prompt_hash
+    assert render_text(unrendered) == render_text(base)
+
+
+def test_views_not_rendered_leave_the_request_without_images() -> None:
+    config = PromptConfig(scene_as_text=True)
+    shown = build_prompt(_episode(), IMAGES, config)
+    blind = build_prompt(_episode(), None, config)
+    assert blind.prompt_hash == shown.prompt_hash and blind.images == {}
+    assert render_text(blind) == render_text(shown)
+    request = blind.to_request("r")
+    assert request.images() == [] and len(shown.to_request("r").images()) == len(IMAGES)
+    texts = [p for p in shown.to_request("r").user if p.type == "text"]
+    assert [p for p in request.user if p.type == "text"] == texts

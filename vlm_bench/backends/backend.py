@@ -77,6 +77,9 @@ class Backend(ClosesOnExit, ABC):
     """Registry name (used in messages)."""
     Args: ClassVar[type[BackendArgs]] = BackendArgs
     """The ``-M key=value`` arguments it accepts; the constructor takes ``(model, args)``."""
+    sees_images: ClassVar[bool] = True
+    """Its answers may depend on the requests' images. False (a planner that reads only the
+    text): the run renders no views for it and its requests carry none."""
 
     @classmethod
     def from_args(cls, model: str, raw: Mapping[str, str]) -> Self:

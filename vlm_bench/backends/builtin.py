@@ -47,7 +47,10 @@ def _answer_each(
 
 class PlannerBackend(Backend):
     """A built-in that plans from what the runner puts in a request: :meth:`plan` gives the
-    plan, or the reason it cannot (recorded as a backend error)."""
+    plan, or the reason it cannot (recorded as a backend error). It reads no images, so runs
+    render no views for it."""
+
+    sees_images = False
 
     def __init__(self, model: str = "", args: BackendArgs | None = None) -> None:
         self.args = args or BackendArgs()
@@ -185,7 +188,8 @@ def _load_script(path: Path) -> dict[str, tuple[str, str | None]]:
 
 
 class MockBackend(Backend):
-    """Scripted outputs for tests and demos; unknown ids give an error result."""
+    """Scripted outputs for tests and demos; unknown ids give an error result. It stands in
+    for a VLM, so its requests carry the views a VLM's would."""
 
     name = "mock"
     Args = MockArgs

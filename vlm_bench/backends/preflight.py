@@ -45,6 +45,8 @@ class BackendCheck:
     """The model name that backend gets (a hub id, a path, a served name, or empty)."""
     loads_model: bool
     """A model runs in this process (``hf``, ``vllm`` and plug-ins): torch and friends load."""
+    sees_images: bool = True
+    """Its answers may depend on images (:attr:`.Backend.sees_images`)."""
 
 
 def loads_model_in_process(backend: str) -> bool:
@@ -110,8 +112,9 @@ def check_backend(
     card = card_for(model)
     raw = {**(card.args_for(name) if card is not None else {}), **dict(args or {})}
     if name in WEIGHTLESS:
-        BACKENDS.get(name).factory(model_name, raw).close()
-        return BackendCheck(name, model_name, loads_model=False)
+        built = BACKENDS.get(name).factory(model_name, raw)
+        built.close()
+        return BackendCheck(name, model_name, loads_model=False, sees_images=built.sees_images)
     if name not in _MODEL_BACKENDS:
         _check_plugin_args(name, raw)
         return BackendCheck(name, model_name, loads_model_in_process(name))

@@ -9,6 +9,7 @@ moves' body frame is the start heading for the whole episode.
 
 from __future__ import annotations
 
+import hashlib
 import math
 
 import numpy as np
@@ -63,6 +64,16 @@ def episode_now(live: LiveEpisode) -> Episode:
             "uav_start": uav,
         }
     )
+
+
+def state_digest(live: LiveEpisode) -> str:
+    """sha256 of the simulator's configuration now (joint positions, mocap poses): what the
+    views show, so a replan's prompt hash is the same whether they were rendered or not."""
+    data = live.loop.data
+    digest = hashlib.sha256()
+    for array in (data.qpos, data.mocap_pos, data.mocap_quat):
+        digest.update(np.ascontiguousarray(array, dtype=np.float64).tobytes())
+    return digest.hexdigest()
 
 
 def render_now(

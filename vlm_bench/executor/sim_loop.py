@@ -74,7 +74,8 @@ class SimLoop:
         """Simulated time (s) after which a control step raises :class:`SimBudgetSpent`."""
 
     def _count_bad_warnings(self) -> int:
-        return sum(int(self.data.warning[int(w)].number) for w in _BAD_STATE_WARNINGS)
+        counts = self.data.warning.number.tolist()  # one array read, not one struct per kind
+        return sum(counts[int(w)] for w in _BAD_STATE_WARNINGS)
 
     # ---- stepping ---------------------------------------------------------------------
     def physics_step(self) -> None:
@@ -127,12 +128,15 @@ class SimLoop:
         return math.degrees(math.acos(max(-1.0, min(1.0, -zz))))
 
     def _check_stable(self) -> None:
+        """Raise :class:`SimulatorUnstable` on a new bad-state warning, a non-finite position or
+        velocity, or a speed over ``max_speed_unstable``: the largest speed is NaN where a
+        velocity is NaN and inf where one is infinite, so one comparison tests both."""
         d = self.data
         if self._count_bad_warnings() > self._bad_warnings:
             raise SimulatorUnstable(UNSTABLE)
-        if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
+        if not np.isfinite(d.qpos).all():
             raise SimulatorUnstable(UNSTABLE)
-        if float(np.max(np.abs(d.qvel), initial=0.0)) > self.config.max_speed_unstable:
+        if not np.abs(d.qvel).max(initial=0.0) <= self.config.max_speed_unstable:
             raise SimulatorUnstable(UNSTABLE)
 
     def _record_contacts(self) -> None:

@@ -112,14 +112,15 @@ def _hash(system: str, user: Sequence[PromptPart]) -> str:
 
 
 def build_prompt(
-    episode: Episode, images: Mapping[str, object], config: PromptConfig | None = None
+    episode: Episode, images: Mapping[str, object] | None, config: PromptConfig | None = None
 ) -> Prompt:
     """Render the prompt of one episode.
 
     Args:
         episode: The episode (instructions, objects and parts give the object-id list).
         images: Snapshots by view name (PNG bytes, PIL images or uint8 arrays). Views the
-            config leaves out are ignored.
+            config leaves out are ignored. None: not rendered, for a planner that reads no
+            images (the user turn keeps its image slots; the request carries no images).
         config: Prompt options (views, k-shot, object list, instruction variant).
 
     Returns:
@@ -130,10 +131,11 @@ def build_prompt(
             exceeds the number of few-shot examples.
     """
     config = config or PromptConfig()
-    missing = [v for v in config.views if v not in images]
+    given = images if images is not None else dict.fromkeys(config.views)
+    missing = [v for v in config.views if v not in given]
     if missing:
         raise ConfigError(
-            f"no image for view(s) {', '.join(missing)}; given: {', '.join(images) or 'none'}"
+            f"no image for view(s) {', '.join(missing)}; given: {', '.join(given) or 'none'}"
         )
     key = shuffle_key(episode) if config.few_shot_selection == "per_episode" else ""
     examples = select_examples(config.k_shot, config.few_shot_seed, key)
@@ -149,7 +151,7 @@ def build_prompt(
         instruction=episode.instruction(config.instruction),
     )
     user = _user_parts(text)
-    pngs: dict[str, bytes] = {v: to_png(images[v]) for v in config.views}
+    pngs = rendered_pngs(images, config.views)
     return Prompt(
         system=system,
         user=user,
@@ -158,6 +160,11 @@ def build_prompt(
         object_order=tuple(order),
         images=pngs,
     )
+
+
+def rendered_pngs(images: Mapping[str, object] | None, views: Sequence[str]) -> dict[str, bytes]:
+    """PNG bytes of ``views`` (none where the views were not rendered: ``images`` None)."""
+    return {} if images is None else {v: to_png(images[v]) for v in views}
 
 
 def render_text(prompt: Prompt) -> str:

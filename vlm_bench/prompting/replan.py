@@ -3,9 +3,11 @@ the first prompt (robot, skills, rules, examples: one rule source), and a user t
 from ``prompts/replan.j2`` with the instruction, the steps executed so far with their outcome,
 what the gripper holds, and the views (and scene text) of the state now.
 
-A replan's hash covers the rendered text, the templates and the views' pixels, so the response
-cache is keyed per round's request. ``replan.j2`` is not one of the first prompt's templates:
-adding it left every open-loop prompt hash as it was.
+A replan's hash covers the rendered text, the templates and the digest of the simulator state
+the views show, so the response cache is keyed per round's request, and the hash is the same
+whether the views were rendered or not (a planner that reads no images gets none).
+``replan.j2`` is not one of the first prompt's templates: adding it left every open-loop
+prompt hash as it was.
 """
 
 from __future__ import annotations
@@ -20,13 +22,13 @@ from vlm_bench.prompting.builder import (
     _user_parts,
     object_order,
     render_system,
+    rendered_pngs,
     scene_text,
     shuffle_key,
 )
 from vlm_bench.prompting.examples import select_examples
 from vlm_bench.prompting.templates import render
 from vlm_bench.resources import prompts_dir
-from vlm_bench.storage.png import to_png
 from vlm_bench.types.closed_loop import Feedback
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import plan_to_json
@@ -50,18 +52,22 @@ def _one_line(text: str | None) -> str:
 def build_replan_prompt(
     episode: Episode,
     now: Episode,
-    images: Mapping[str, object],
+    images: Mapping[str, object] | None,
     config: PromptConfig,
     feedback: Feedback,
+    state: str,
 ) -> Prompt:
     """Render a replan's prompt.
 
     Args:
         episode: The episode (instruction, few-shot selection, object order).
         now: The episode as it stands now (its scene text is the state now).
-        images: Views of the state now, by view name.
+        images: Views of the state now, by view name; None: not rendered (a planner that
+            reads no images).
         config: The run's prompt options.
         feedback: The steps executed so far, what is held, whether only goals are unmet.
+        state: Digest of the simulator state now
+            (:func:`~vlm_bench.executor.live_state.state_digest`).
     """
     key = shuffle_key(episode) if config.few_shot_selection == "per_episode" else ""
     examples = select_examples(config.k_shot, config.few_shot_seed, key)
@@ -84,16 +90,14 @@ def build_replan_prompt(
         incomplete=feedback.incomplete,
     )
     user = _user_parts(text)
-    pngs: dict[str, bytes] = {v: to_png(images[v]) for v in config.views}
     digest = hashlib.sha256(_hash(system, user).encode())
     digest.update(_replan_digest().encode())
-    for view in config.views:
-        digest.update(view.encode() + hashlib.sha256(pngs[view]).digest())
+    digest.update(state.encode())
     return Prompt(
         system=system,
         user=user,
         prompt_hash=digest.hexdigest(),
         example_ids=tuple(ex.id for ex in examples),
         object_order=tuple(order),
-        images=pngs,
+        images=rendered_pngs(images, config.views),
     )

@@ -111,16 +111,19 @@ class _LazyBackend:
 def _check_backend(config: RunConfig, given: Backend | None) -> BackendCheck:
     """The run's backend, checked without loading a model (a given instance is trusted)."""
     if given is not None:
-        return BackendCheck(given.name, config.model, loads_model_in_process(given.name))
+        name = given.name
+        return BackendCheck(name, config.model, loads_model_in_process(name), given.sees_images)
     return check_backend(
         config.model, config.backend_args, constrained=config.generation.constrained
     )
 
 
 @contextmanager
-def _snapshot_source(config: RunConfig, cache_dir: Path | None) -> Iterator[SnapshotSource]:
+def _snapshot_source(
+    config: RunConfig, cache_dir: Path | None, sees_images: bool
+) -> Iterator[SnapshotSource]:
     cache = SnapshotCache(cache_dir) if cache_dir is not None else None
-    source = run_snapshots(config, cache)
+    source = run_snapshots(config, cache) if sees_images else SnapshotSource((), 0)
     try:
         yield source
     finally:
@@ -131,6 +134,7 @@ def _executions(
     config: RunConfig,
     options: ExecutionOptions | None,
     on_change: Callable[[int, int, int, int], None],
+    sees_images: bool,
 ) -> Executions | LoopExecutions | None:
     """Where the run's plans execute: closed-loop episodes, or one execution per plan."""
     if not config.execute:
@@ -138,7 +142,7 @@ def _executions(
     options = options or ExecutionOptions()
     pool = make_pool(options)
     if config.loop == "closed":
-        return LoopExecutions(pool, config, on_change, options.stall_s)
+        return LoopExecutions(pool, config, on_change, options.stall_s, sees_images)
     return Executions(pool, config.executor_config(), on_change, options.stall_s)
 
 
@@ -190,13 +194,16 @@ def run_benchmark(
     lazy = _LazyBackend(config, backend)
     with (
         RunStore.create_or_resume(run_dir, config, make_manifest(config, backend_name)) as store,
-        _snapshot_source(config, cache_dir) as snapshots,
+        _snapshot_source(config, cache_dir, checked.sees_images) as snapshots,
         RunProgress(len(refs), store.paths.run_id, enabled=progress) as shown,
         deferred_interrupt() as stop,
     ):
-        executions = _executions(config, execution, shown.executions_changed)
+        sees = checked.sees_images
+        executions = _executions(config, execution, shown.executions_changed, sees)
         try:
-            pipeline = EpisodePipeline(config, store, lazy, snapshots, shown, stop, executions)
+            pipeline = EpisodePipeline(
+                config, store, lazy, snapshots, shown, stop, executions, sees_images=sees
+            )
             stats = pipeline.run(refs)
         finally:
             lazy.close()

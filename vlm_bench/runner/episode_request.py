@@ -20,7 +20,7 @@ from vlm_bench.types.run import RunConfig
 
 
 def episode_request(
-    config: RunConfig, ref: EpisodeRef, episode: Episode, images: Mapping[str, bytes]
+    config: RunConfig, ref: EpisodeRef, episode: Episode, images: Mapping[str, bytes] | None
 ) -> tuple[Prompt, GenerationRequest]:
     """The prompt of one episode under the run's options, and the backend request made of it.
 
@@ -28,7 +28,8 @@ def episode_request(
         config: The run configuration (prompt options, constrained decoding).
         ref: The episode and instruction variant.
         episode: The episode ``ref`` names.
-        images: PNG bytes by view (the views the config shows).
+        images: PNG bytes by view (the views the config shows); None: not rendered, for a
+            planner that reads no images.
     """
     prompt = build_prompt(episode, images, config.prompt_config(ref.variant))
     object_ids = episode.object_ids()

@@ -88,6 +88,7 @@ class LoopExecutions:
         on_change: Called with (submitted, finished, running, queued) after every change.
         stall_s: Longest time with rounds executing and none finishing (s); default:
             :attr:`ExecutionOptions.stall_s <vlm_bench.types.execution.ExecutionOptions.stall_s>`.
+        sees_images: The planner reads images; False: replans' views are not rendered.
 
     An execution the infrastructure loses (its worker died
     :data:`~vlm_bench.runner.pending_jobs.MAX_ATTEMPTS` times, Ray gave up, or no execution
@@ -102,9 +103,12 @@ class LoopExecutions:
         config: RunConfig,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
+        sees_images: bool = True,
     ) -> None:
         self.pool = pool
         self.config = config
+        self.views = config.views if config.images and sees_images else ()
+        """The views a replan shows (none where nobody looks at them)."""
         self.executor = config.executor_config()
         """Every round's executor settings (built once)."""
         self.stall_s = ExecutionOptions().stall_s if stall_s is None else stall_s
@@ -238,8 +242,7 @@ class LoopExecutions:
         c = self.config
         state = None
         if len(live.plans) <= c.max_rounds:
-            views = c.views if c.images else ()
-            state = StateRequest(tuple(views), c.resolution, c.labels)
+            state = StateRequest(tuple(self.views), c.resolution, c.labels)
         ep = live.episode
         job = LoopJob(ep.task_id, ep.seed, self.executor, tuple(live.plans), state, live.snapshot)
         live.snapshot = None  # the job holds it while it runs
@@ -288,9 +291,9 @@ class LoopExecutions:
             held=state.held,
             incomplete=summary.steps_ok,
         )
-        prompt = build_replan_prompt(
-            ep, state.now, state.images, self.config.prompt_config(live.first.variant), feedback
-        )
+        images = state.images if self.views else None
+        config = self.config.prompt_config(live.first.variant)
+        prompt = build_replan_prompt(ep, state.now, images, config, feedback, state.digest)
         object_ids = ep.object_ids()
         meta = RequestMeta(
             task_id=ep.task_id,

@@ -28,6 +28,7 @@ class StateRequest:
     """How to show the state a failed round left."""
 
     views: tuple[str, ...]
+    """The views to render (none for a planner that reads no images)."""
     size: int
     labels: bool
 
@@ -63,6 +64,8 @@ class LiveState:
     """What the gripper holds."""
     images: dict[str, bytes]
     """PNG views of the state, by view name."""
+    digest: str
+    """The simulator state's digest (:func:`~vlm_bench.executor.live_state.state_digest`)."""
 
 
 @dataclass(frozen=True)
@@ -83,7 +86,7 @@ def execute_rounds(job: LoopJob) -> RoundsExecuted:
     from vlm_bench.episodes import get_episode
     from vlm_bench.executor.live_episode import LiveEpisode
     from vlm_bench.executor.live_snapshot import freeze, thaw
-    from vlm_bench.executor.live_state import episode_now, render_now
+    from vlm_bench.executor.live_state import episode_now, render_now, state_digest
     from vlm_bench.sim.mujoco_log import route_mujoco_log
     from vlm_bench.sim.scene import build_spec
 
@@ -106,7 +109,8 @@ def execute_rounds(job: LoopJob) -> RoundsExecuted:
     state, snapshot = None, None
     if job.state is not None and not executions[-1].exec_success:
         snapshot = freeze(live)  # before rendering, which must not reach the continuation
+        digest = state_digest(live)
         now = episode_now(live)
         images = render_now(live, now, job.state.views, job.state.size, job.state.labels)
-        state = LiveState(now, live.held, images)
+        state = LiveState(now, live.held, images, digest)
     return RoundsExecuted(tuple(executions), state, snapshot=snapshot)

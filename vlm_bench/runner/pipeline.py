@@ -93,6 +93,7 @@ class EpisodePipeline:
         progress: RunProgress | None = None,
         stop: StopFlag | None = None,
         executions: Executions | LoopExecutions | None = None,
+        sees_images: bool = True,
     ) -> None:
         """Set up the pipeline of one run.
 
@@ -109,11 +110,14 @@ class EpisodePipeline:
             executions: Where plans execute, when the run executes plans (the pipeline closes
                 it): closed-loop episodes replan through it; None = the run does not
                 execute plans.
+            sees_images: The backend reads images; False: no views are rendered and its
+                requests carry none (prompt hashes and records are the same either way).
         """
         self.config = config
         self.store = store
         self._backend = backend
         self.snapshots = snapshots
+        self.sees_images = sees_images
         self.progress = progress or RunProgress(0, enabled=False)
         self.stats = PipelineStats()
         self._episode: Episode | None = None
@@ -208,7 +212,7 @@ class EpisodePipeline:
 
     def _prepare(self, ref: EpisodeRef) -> _Prepared:
         episode = self._episode_of(ref)
-        images = self.snapshots.images(episode)
+        images = self.snapshots.images(episode) if self.sees_images else None
         prompt, request = episode_request(self.config, ref, episode, images)
         info = EpisodeInfo(
             self.store.paths.run_id,

@@ -150,9 +150,9 @@ class UavController:
             g.vel_p * (cz - vz) + i[2],
             g.max_accel,
         )
-        grav = self._grav
+        gx, gy, gz = self._grav
         m = self.mass
-        fx, fy, fz = m * (ax - grav[0]), m * (ay - grav[1]), m * (az - grav[2])
+        fx, fy, fz = m * (ax - gx), m * (ay - gy), m * (az - gz)
         # ...applied through the subtree's centre of mass: the torque of the lever to it.
         com, cog = v.subtree_com.tolist(), v.xipos.tolist()
         lx, ly, lz = com[0] - cog[0], com[1] - cog[1], com[2] - cog[2]
@@ -172,21 +172,23 @@ class UavController:
             g.att_p * yaw_error - g.att_d * oz,
             g.max_ang_accel,
         )
-        j = v.M[self._rot_diag].tolist()
+        inertia, (d0, d1, d2) = v.M.item, v.rot_diag
         # body-frame angular acceleration times inertia, back to the world frame
-        kx = j[0] * (r[0] * bx + r[3] * by + r[6] * bz)
-        ky = j[1] * (r[1] * bx + r[4] * by + r[7] * bz)
-        kz = j[2] * (r[2] * bx + r[5] * by + r[8] * bz)
+        kx = inertia(d0) * (r[0] * bx + r[3] * by + r[6] * bz)
+        ky = inertia(d1) * (r[1] * bx + r[4] * by + r[7] * bz)
+        kz = inertia(d2) * (r[2] * bx + r[5] * by + r[8] * bz)
         tx += r[0] * kx + r[1] * ky + r[2] * kz
         ty += r[3] * kx + r[4] * ky + r[5] * kz
         tz += r[6] * kx + r[7] * ky + r[8] * kz
-        # The weight gravcomp hides from the base, as force and torque at its COM.
+        # The weight gravcomp hides from the base, as force and torque at its COM (the
+        # weighted sum stays numpy's, whose summation order a Python loop would not keep).
         w = self._comp_weight
-        mx, my, mz = (self._comp_weights @ v.comp_xipos - w * v.xipos).tolist()
-        fx, fy, fz = fx + w * grav[0], fy + w * grav[1], fz + w * grav[2]
-        tx += my * grav[2] - mz * grav[1]
-        ty += mz * grav[0] - mx * grav[2]
-        tz += mx * grav[1] - my * grav[0]
+        mx, my, mz = (self._comp_weights @ v.comp_xipos).tolist()
+        mx, my, mz = mx - w * cog[0], my - w * cog[1], mz - w * cog[2]
+        fx, fy, fz = fx + w * gx, fy + w * gy, fz + w * gz
+        tx += my * gz - mz * gy
+        ty += mz * gx - mx * gz
+        tz += mx * gy - my * gx
         out = v.xfrc
         if self.gust is not None:
             gust = self._next_gust(self.gust)
@@ -209,6 +211,7 @@ class UavController:
                 xipos=data.xipos[b],
                 xmat=data.xmat[b],
                 M=data.M,
+                rot_diag=tuple(self._rot_diag.tolist()),
                 comp_xipos=data.xipos[comp[0] : comp[-1] + 1]
                 if len(comp) and np.array_equal(comp, np.arange(comp[0], comp[-1] + 1))
                 else data.xipos[comp],
@@ -235,6 +238,7 @@ class _Views:
     xipos: Array
     xmat: Array
     M: Array
+    rot_diag: tuple[int, ...]
     comp_xipos: Array
     xfrc: Array
 

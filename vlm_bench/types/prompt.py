@@ -84,11 +84,13 @@ class Prompt(Frozen):
         meta: RequestMeta | None = None,
         json_schema: dict[str, object] | None = None,
     ) -> GenerationRequest:
-        """The backend request for this prompt: image slots filled with their PNG bytes."""
+        """The backend request for this prompt: image slots filled with their PNG bytes (left
+        out where the views were not rendered, for a planner that reads no images)."""
         parts: list[TextPart | ImagePart] = []
         for part in self.user:
             if isinstance(part, ImageSlot):
-                parts.append(ImagePart(view=part.view, png=self.images[part.view]))
+                if self.images:
+                    parts.append(ImagePart(view=part.view, png=self.images[part.view]))
             else:
                 parts.append(part)
         return GenerationRequest(

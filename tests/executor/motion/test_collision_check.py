@@ -4,6 +4,8 @@ changed scene."""
 
 from __future__ import annotations
 
+import pickle
+
 import mujoco
 import numpy as np
 import pytest
@@ -14,8 +16,8 @@ from vlm_bench.executor.motion.collision_check import (
     Carried,
     CollisionChecker,
     CollisionQuery,
-    robot_only_collisions,
 )
+from vlm_bench.executor.motion.contact_filter import robot_only_collisions
 from vlm_bench.executor.motion.ik import ArmIk
 from vlm_bench.executor.plan_execution import episode_scene
 from vlm_bench.sim import constants as c
@@ -154,3 +156,32 @@ def test_world_pairs_are_never_reported() -> None:
     assert robot_only_collisions(model, robot)
     mujoco.mj_collision(model, data)
     assert not np.any(~robot[data.contact.geom[: data.ncon]].any(axis=1))
+
+
+def test_a_pickled_checker_writes_its_own_scratch_data() -> None:
+    """A live episode's snapshot pickles the checker: the views it caches into its scratch data
+    must follow the unpickled data, not stay copies of the old one."""
+    episode = get_episode("variant_green_nut", 0)
+    scene = episode_scene(episode, ExecutorConfig())
+    model, data = scene.model, scene.data
+    mujoco.mj_forward(model, data)
+    ik, checker = ArmIk(model), CollisionChecker(model)
+    name = next(o.id for o in episode.objects if "nut" in o.id)
+    carried = Carried(
+        qadr=int(model.joint(free_joint_name(name)).qposadr[0]),
+        geoms=set(subtree_geoms(model, model.body(name).id)),
+        offset=np.array([0.0, 0.0, 0.08]),
+        rotation=np.eye(3),
+    )
+    rng = np.random.default_rng(3)
+    postures = [rng.uniform(ik.lo, ik.hi) for _ in range(40)]
+    low = BaseMove(np.array([0.0, 0.0, -0.4]))
+    for q in postures[:5]:  # the views are made and used before the pickle
+        checker.collisions(data, q, CollisionQuery.of(set(), None, low, carried))
+    thawed = pickle.loads(pickle.dumps(checker))
+    nonempty = 0
+    for q in postures[5:]:
+        expected = _reference(ik, data, q, set(), None, low, carried, 0.0)
+        assert thawed.collisions(data, q, CollisionQuery.of(set(), None, low, carried)) == expected
+        nonempty += bool(expected)
+    assert nonempty > 3

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.contact_filter import contact_hits, robot_only_collisions, robot_side
 from vlm_bench.sim.constants import ARM_JOINTS, FINGER_JOINTS, TCP_SITE, UAV_FREEJOINT
 from vlm_bench.sim.robot import robot_geom_ids
 from vlm_bench.types.base import FloatArray
@@ -96,6 +97,16 @@ class _Checker:
     own: list[bool]
 
 
+@dataclass(frozen=True)
+class _Views:
+    """Views into a checker's scratch data: its qpos and the TCP's position and rotation."""
+
+    data: mujoco.MjData
+    qpos: FloatArray
+    tcp_pos: FloatArray
+    tcp_mat: FloatArray
+
+
 class CollisionChecker:
     """Collision queries on one scene, answered on scratch copies of its model.
 
@@ -117,6 +128,9 @@ class CollisionChecker:
         self._hits: dict[tuple[object, ...], tuple[int, ...]] = {}
         """Collision checks of the scene state ``_state`` (the planner repeats ~20 % exactly)."""
         self._ignore_flags: dict[frozenset[int], list[bool]] = {}
+        self._arm = _index(self._arm_qadr)
+        self._fingers = _index(self._finger_qadr)
+        self._views: dict[int, _Views] = {}
 
     def collisions(self, data: mujoco.MjData, q: FloatArray, query: CollisionQuery) -> list[int]:
         """Non-robot geoms the robot would touch with arm angles ``q`` (scene scratch copy, UAV
@@ -144,23 +158,38 @@ class CollisionChecker:
         carried = query.carried
         check = self._checker(query.clearance, carried)
         model, s = check.model, check.data
-        s.qpos[:] = data.qpos
+        v = self._scratch_views(check)
+        qpos = v.qpos
+        qpos[:] = data.qpos
         if query.base is not None:
-            query.base.apply(s.qpos, self._uav_qadr)
-        s.qpos[self._arm_qadr] = q
+            query.base.apply(qpos, self._uav_qadr)
+        qpos[self._arm] = q
         if query.gripper is not None:
-            s.qpos[self._finger_qadr] = query.gripper
+            qpos[self._fingers] = query.gripper
         mujoco.mj_kinematics(model, s)
         if carried is not None:
-            tcp, rot = s.site_xpos[self._site], s.site_xmat[self._site].reshape(3, 3)
-            quat = np.empty(4)
-            mujoco.mju_mat2Quat(quat, (rot @ carried.rotation).ravel())
-            s.qpos[carried.qadr : carried.qadr + 3] = tcp + rot @ carried.offset
-            s.qpos[carried.qadr + 3 : carried.qadr + 7] = quat
+            tcp, rot, a = v.tcp_pos, v.tcp_mat, carried.qadr
+            mujoco.mju_mat2Quat(qpos[a + 3 : a + 7], (rot @ carried.rotation).ravel())
+            np.add(tcp, rot @ carried.offset, out=qpos[a : a + 3])
             mujoco.mj_kinematics(model, s)
         mujoco.mj_collision(model, s)
         ignore = self._ignore(query.ignore)
         return contact_hits(s, query.clearance, check.own, self._robot, ignore)
+
+    def _scratch_views(self, check: _Checker) -> _Views:
+        """The views of ``check.data`` :meth:`_collide` writes and reads (made once per
+        checker; a pickle copies a view, so they are not pickled)."""
+        views = self._views.get(id(check))
+        if views is None or views.data is not check.data:
+            s = check.data
+            views = self._views[id(check)] = _Views(
+                s, s.qpos, s.site_xpos[self._site], s.site_xmat[self._site].reshape(3, 3)
+            )
+        return views
+
+    def __getstate__(self) -> dict[str, object]:
+        """Pickled without the scratch views (made again on first use)."""
+        return {**self.__dict__, "_views": {}}
 
     def _checker(self, clearance: float, carried: Carried | None) -> _Checker:
         """The model collision checks with ``clearance`` and ``carried`` in the hand run on: a
@@ -196,59 +225,11 @@ class CollisionChecker:
         return flags
 
 
-WORLD = (2, 1)
-"""(contype, conaffinity) of a world geom in a collision-check model: no world pair collides."""
-ROBOT = (1, 3)
-"""(contype, conaffinity) of a robot geom there: it collides with the world and itself."""
-
-
-def robot_only_collisions(model: mujoco.MjModel, robot: NDArray[np.bool_]) -> bool:
-    """Give ``model``'s colliding geoms the masks :data:`WORLD` and :data:`ROBOT` (``robot``:
-    per-geom flags), so ``mj_collision`` reports only pairs with a robot geom in them: objects
-    resting on tables (~35 contacts per check) are never reported. Exact where every geom
-    either collides with all others or with none (contype = conaffinity ∈ {0, 1}, as in all
-    the benchmark's scenes); other masks are left as they are. Whether it set them."""
-    types, affinities = model.geom_contype, model.geom_conaffinity
-    if not np.all((types == affinities) & (types <= 1)):
-        return False
-    robot_side(model, np.flatnonzero(robot))
-    world = np.flatnonzero(~robot & ((types | affinities) != 0))
-    model.geom_contype[world], model.geom_conaffinity[world] = WORLD
-    return True
-
-
-def robot_side(model: mujoco.MjModel, geoms: NDArray[np.int64]) -> None:
-    """Make ``geoms`` (colliding ones) collide as the robot's (its own, a held object's)."""
-    solid = geoms[(model.geom_contype[geoms] | model.geom_conaffinity[geoms]) != 0]
-    model.geom_contype[solid], model.geom_conaffinity[solid] = ROBOT
-
-
-def contact_hits(
-    s: mujoco.MjData,
-    clearance: float,
-    own: list[bool],
-    robot: list[bool],
-    ignore: list[bool] | None,
-) -> tuple[int, ...]:
-    """The hits of :meth:`CollisionChecker.collisions` in ``s``'s contacts, in contact order:
-    for each contact within ``clearance`` of an ``own`` geom (the robot's or the held object's)
-    with a geom that is neither that nor in ``ignore``, that geom; for each penetrating contact
-    of two ``robot`` geoms, the first (per-geom flags). A plain loop: a check has a handful of
-    contacts, where numpy's per-call cost is most of the time."""
-    if s.ncon == 0:
-        return ()
-    contact = s.contact
-    hits = []
-    for (g0, g1), dist in zip(contact.geom.tolist(), contact.dist.tolist(), strict=True):
-        if not dist <= clearance:
-            continue
-        if robot[g0] and robot[g1] and dist <= 0.0:
-            hits.append(g0)
-        elif own[g0] != own[g1]:
-            other = g1 if own[g0] else g0
-            if ignore is None or not ignore[other]:
-                hits.append(other)
-    return tuple(hits)
+def _index(adr: NDArray[np.int64]) -> slice | NDArray[np.int64]:
+    """``adr`` as a slice where it is a run of consecutive addresses (a view, no gather)."""
+    if len(adr) and np.array_equal(adr, np.arange(adr[0], adr[0] + len(adr))):
+        return slice(int(adr[0]), int(adr[0]) + len(adr))
+    return adr
 
 
 def _state_key(data: mujoco.MjData) -> bytes:

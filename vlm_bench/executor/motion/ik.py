@@ -20,6 +20,7 @@ import mujoco
 import numpy as np
 
 from vlm_bench.executor.motion.base_move import BaseMove
+from vlm_bench.executor.motion.ik_qp import IkQp
 from vlm_bench.sim.constants import ARM_JOINTS, TCP_SITE, UAV_BODY, UAV_FREEJOINT
 from vlm_bench.sim.robot import add_aerial_manipulator
 from vlm_bench.types.base import FloatArray
@@ -35,6 +36,7 @@ SEED_POSTURES = (
 POS_TOL = 0.004  # m
 ROT_TOL = 0.03  # rad
 DT = 0.1  # s, integration step of mink's velocity solution
+DAMPING = 1e-3  # Levenberg-Marquardt damping of every dof
 STALL_AFTER = 30
 """Iterations a solve always gets before it may give up where it stalls."""
 STALL_WINDOW = 15
@@ -112,6 +114,8 @@ class ArmIk:
         )
         self.posture = mink.PostureTask(self.robot, cost=1e-3)
         self.limits = [mink.ConfigurationLimit(self.robot)]
+        self.qp = IkQp(self.config, self.frame, self.posture, self.limits[0], DAMPING)
+        """Each iteration's QP (``mink.solve_ik``'s numbers, assembled faster)."""
 
     def _load(self, data: mujoco.MjData, q: FloatArray, base: BaseMove | None) -> None:
         """Arm-model configuration: the UAV (mocap) at the scene's UAV pose moved by ``base``,
@@ -194,15 +198,7 @@ class ArmIk:
             best.append(min(residual, best[-1]) if best else residual)
             if iterations > STALL_AFTER and stalled(best):
                 break
-            vel = mink.solve_ik(
-                self.config,
-                [self.frame, self.posture],
-                DT,
-                "daqp",
-                damping=1e-3,
-                limits=self.limits,
-            )
-            self.config.integrate_inplace(vel, DT)
+            self.config.integrate_inplace(self.qp.velocity(err, DT), DT)
         q = np.clip(self.config.q[self._r_qadr], self.lo, self.hi)
         if not np.array_equal(q, self.config.q[self._r_qadr]):  # the residual of what is returned
             qpos = self.config.q.copy()
