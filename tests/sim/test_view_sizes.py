@@ -12,7 +12,9 @@ from vlm_bench.rules import rotate_xy
 from vlm_bench.sim.cameras import task_objects, third_person_views
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE
 from vlm_bench.sim.footprint import Legibility, ObjectFootprint, legibility_failures
+from vlm_bench.sim.legible_views import legible_views
 from vlm_bench.sim.view_sizes import (
+    ESTIMATE_MARGIN,
     frame_problem,
     hidden_from_above,
     is_small_part,
@@ -106,6 +108,28 @@ def test_an_object_hidden_from_above_is_judged_by_its_side_view_alone() -> None:
     sizes["banana"] = {CAM_OVERHEAD: 30.0, CAM_SIDE: 11.0}
     assert legibility_score(ep, sizes) >= 1.0
     assert legibility_score(ep, sizes, frozenset({"banana"})) == pytest.approx(11.0 / 13.8)
+
+
+@pytest.mark.parametrize(
+    ("task", "seed"),
+    [
+        ("jargon_vision_sensor", 9),  # a lidar under the UAV: 2 px from above, 11 px beside
+        ("synonym_cup_dish", 1),  # a banana under a rotor disc: 0 px from above
+        ("material_tin", 2),
+        ("contextual_spare_part", 7),
+        ("color_matched_sorting", 5),
+    ],
+)
+def test_no_episode_leaves_an_object_the_uav_covers_to_a_short_side_view(
+    task: str, seed: int
+) -> None:
+    """These episodes kept such a layout before the rule, judged legible by the overhead
+    estimate of an object the UAV hid there."""
+    ep = _episode(task, seed)
+    hidden = hidden_from_above(ep, legible_views(ep))
+    kinds = {o.id: o.kind for o in ep.objects}
+    for oid in hidden:
+        assert ep.object_px[oid][CAM_SIDE] >= min_pixels(kinds[oid]) * ESTIMATE_MARGIN, oid
 
 
 def test_a_view_pushed_against_the_wall_cuts_off_the_work_area() -> None:
