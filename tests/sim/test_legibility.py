@@ -8,10 +8,10 @@ The episode generator redraws a layout that breaks the criterion, judged from ge
 framing (:mod:`vlm_bench.sim.legible_views`); these tests check the rendered images agree. CI
 measures a subset (twelve tasks spread over the suites and over seeds 1-9, the three
 small-object examples of the issue, and three seed-0 episodes the close-up made legible); all
-600 episodes are ``slow`` (``pytest -m slow``); one renders a pixel under the bound, open work:
-jargon_vision_sensor seed 9, a lidar at 11 px: the UAV starts 0.25 m from it and hides it in
-the overhead view, which the estimate (12.4 px there) does not model. The same measures, with a summary,
-come from ``benchmarks/view_legibility.py``.
+600 episodes are ``slow`` (``pytest -m slow``) and meet the criterion, no failure open (the
+estimate judges an object the UAV covers from above by its side view alone, since a lidar under
+it rendered 2 px in the overhead view). The same measures, with a summary, come from
+``benchmarks/view_legibility.py``.
 """
 
 from __future__ import annotations

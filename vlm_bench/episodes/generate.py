@@ -26,7 +26,12 @@ from vlm_bench.rules import wrap_deg
 from vlm_bench.rules.approach import VERTICAL_MARGIN
 from vlm_bench.sim.cameras import third_person_views
 from vlm_bench.sim.legible_views import legible_views
-from vlm_bench.sim.view_sizes import frame_problem, legibility_score, object_pixel_sizes
+from vlm_bench.sim.view_sizes import (
+    frame_problem,
+    hidden_from_above,
+    legibility_score,
+    object_pixel_sizes,
+)
 from vlm_bench.types.episode import Episode, EpisodeObject, Lighting, PartRef, UavPose
 from vlm_bench.types.geometry import APPROACH
 from vlm_bench.types.plan import ArmStep, UavStep
@@ -159,8 +164,7 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
     reasons: dict[str, int] = {}
     candidates = _candidates(task, seed, reasons)
     best: tuple[float, Episode] | None = None  # the most legible episode short of the sizes
-    for tries, episode in enumerate(candidates, start=1):
-        score = legibility_score(episode, episode.object_px)
+    for tries, (score, episode) in enumerate(candidates, start=1):
         if best is None or score > best[0]:
             best = (score, episode)
         if score >= 1.0 or seed == 0 or tries >= LEGIBLE_TRIES:
@@ -171,22 +175,22 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
             f"task {task.id!r} seed {seed}: no valid layout in {MAX_ATTEMPTS} attempts "
             f"(most common: {top})"
         )
-    kept = _shown(best[1])
-    shown = (legibility_score(kept, kept.object_px), kept)
-    for tries, episode in enumerate(candidates, start=1):
+    shown = _shown(*best)
+    for tries, candidate in enumerate(candidates, start=1):
         if shown[0] >= 1.0 or tries > LEGIBLE_TRIES:
             break
-        episode = _shown(episode)
-        score = legibility_score(episode, episode.object_px)
+        score, episode = _shown(*candidate)
         if score > shown[0]:
             shown = (score, episode)
     return shown[1]
 
 
-def _candidates(task: TaskSpec, seed: int, reasons: dict[str, int]) -> Iterator[Episode]:
-    """Valid episodes in attempt order, each with its sizes in the standard framing (the
-    reasons attempts fail are counted into ``reasons``). Seed 0 keeps the canonical objects
-    and draws only the UAV start."""
+def _candidates(
+    task: TaskSpec, seed: int, reasons: dict[str, int]
+) -> Iterator[tuple[float, Episode]]:
+    """Valid episodes in attempt order, each with its sizes in the standard framing and its
+    legibility there (the reasons attempts fail are counted into ``reasons``). Seed 0 keeps
+    the canonical objects and draws only the UAV start."""
     for attempt in range(MAX_ATTEMPTS):
         rng = _rng(task.id, seed, attempt)
         try:
@@ -217,17 +221,21 @@ def _candidates(task: TaskSpec, seed: int, reasons: dict[str, int]) -> Iterator[
             # The first start altitude the geometry allows is the attempt's; the sizes judge
             # the attempt, never the altitude (a low start frames tighter).
             sizes = object_pixel_sizes(episode, views=views)
-            yield episode.model_copy(update={"object_px": sizes})
+            score = legibility_score(episode, sizes, hidden_from_above(episode, views))
+            yield score, episode.model_copy(update={"object_px": sizes})
             break
 
 
-def _shown(episode: Episode) -> Episode:
-    """``episode`` with the sizes of the views it is shown with (the close-up where the
-    standard framing leaves a task object under the bound)."""
-    if legibility_score(episode, episode.object_px) >= 1.0:
-        return episode
-    sizes = object_pixel_sizes(episode, views=legible_views(episode))
-    return episode.model_copy(update={"object_px": sizes})
+def _shown(score: float, episode: Episode) -> tuple[float, Episode]:
+    """``episode`` (legibility ``score`` in the standard framing) with the sizes of the views
+    it is shown with (the close-up where the standard framing leaves a task object under the
+    bound), and its legibility there."""
+    if score >= 1.0:
+        return score, episode
+    views = legible_views(episode)
+    sizes = object_pixel_sizes(episode, views=views)
+    score = legibility_score(episode, sizes, hidden_from_above(episode, views))
+    return score, episode.model_copy(update={"object_px": sizes})
 
 
 def _count(reasons: dict[str, int], exc: ValueError) -> None:

@@ -47,7 +47,12 @@ from vlm_bench.sim.cameras import (
 )
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE, DEFAULT_IMAGE_SIZE
 from vlm_bench.sim.framing import fits, image_span, occluded, view_xyaxes
-from vlm_bench.sim.view_sizes import legibility_score, object_pixel_sizes
+from vlm_bench.sim.view_sizes import (
+    hidden_from_above,
+    legibility_score,
+    object_pixel_sizes,
+    view_legibility,
+)
 from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode
 
@@ -124,12 +129,13 @@ def close_up_views(episode: Episode) -> dict[str, CameraView] | None:
         pos, fovy = place_camera(forward, OVERHEAD_FOVY, points, margins, half_room)
     overhead = CameraView(pos, forward, fovy)
     from_above = _sizes(episode, CAM_OVERHEAD, overhead)
+    covered = hidden_from_above(episode, {CAM_OVERHEAD: overhead})
     best: tuple[tuple[float, int, float], CameraView] | None = None
     for hidden, side in _side_options(episode, half_room):
         beside = {
             k: 0.0 if k in hidden else px for k, px in _sizes(episode, CAM_SIDE, side).items()
         }
-        score = legibility_score(episode, _joined(from_above, beside))
+        score = legibility_score(episode, _joined(from_above, beside), covered)
         key = (min(score, HEADROOM), -len(hidden), score)
         if best is None or key > best[0]:
             best = (key, side)
@@ -140,7 +146,7 @@ def legible_views(episode: Episode) -> dict[str, CameraView]:
     """The views the episode is shown with: the standard framing, or the close-up where that
     leaves a task object under its least size and the close-up shows it larger."""
     views = third_person_views(episode)
-    if legibility_score(episode, object_pixel_sizes(episode, views=views)) >= 1.0:
+    if view_legibility(episode, views) >= 1.0:
         return views
     return _shown_views(episode.model_dump_json(exclude={"object_px"}))
 
@@ -149,11 +155,11 @@ def legible_views(episode: Episode) -> dict[str, CameraView]:
 def _shown_views(episode_json: str) -> dict[str, CameraView]:
     episode = Episode.model_validate_json(episode_json)
     views = third_person_views(episode)
-    score = legibility_score(episode, object_pixel_sizes(episode, views=views))
+    score = view_legibility(episode, views)
     close = close_up_views(episode)
     if close is None:
         return views
-    closer = legibility_score(episode, object_pixel_sizes(episode, views=close))
+    closer = view_legibility(episode, close)
     return close if closer > score else views
 
 

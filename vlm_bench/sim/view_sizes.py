@@ -9,6 +9,9 @@ at :data:`~vlm_bench.sim.constants.DEFAULT_IMAGE_SIZE` px. "Across" is the short
 bounding box of the object's box projected by the camera, shrunk by :data:`BOX_TO_SHAPE` (an
 object fills less of its image than its bounding box, and a cylinder less than its square
 box); the rendered sizes (:mod:`vlm_bench.sim.footprint`) are tested against the same limits.
+The overhead view looks down through the UAV: a task object it covers there
+(:func:`uav_covers`) is judged by its side-view size alone (its recorded overhead size is still
+the projection).
 """
 
 from __future__ import annotations
@@ -25,10 +28,11 @@ from vlm_bench.sim.cameras import (
     task_objects,
     third_person_views,
 )
-from vlm_bench.sim.constants import DEFAULT_IMAGE_SIZE
+from vlm_bench.sim.constants import CAM_OVERHEAD, DEFAULT_IMAGE_SIZE
 from vlm_bench.sim.framing import fits, view_xyaxes
 from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode, EpisodeObject
+from vlm_bench.types.geometry import UAV_ARM_LENGTH, UAV_ROTOR_RADIUS
 
 MIN_OBJECT_PX = 12
 """px at 448²: least size of a task object in its better third-person view."""
@@ -42,6 +46,9 @@ ESTIMATE_MARGIN = 1.15
 """The estimate must exceed the bound by this factor: a box misses an object's thin end and what
 hides part of it (estimates of 12.0-13.4 px rendered 11 px: a banana, a cup, a cube behind a
 basket)."""
+UAV_HUB_RADIUS = UAV_ARM_LENGTH - UAV_ROTOR_RADIUS
+"""m: the UAV's chassis, taken as a disc about its axis reaching the rotor discs (0.16 m, the
+frame plate's half length)."""
 
 
 def is_small_part(kind: str) -> bool:
@@ -103,6 +110,36 @@ def object_pixel_sizes(
     }
 
 
+def uav_covers(episode: Episode, view: CameraView, obj: EpisodeObject) -> bool:
+    """Whether the UAV at its start hides ``obj`` from ``view``: the sight line to the centre
+    of the object's top passes, at the UAV's altitude, through its chassis
+    (:data:`UAV_HUB_RADIUS`) or one of its four rotor discs."""
+    ux, uy, uz = episode.uav_start.pos
+    top = np.array([*obj.pos[:2], obj.pos[2] + object_kind(obj.kind).size[2]])
+    ray = top - view.pos
+    if top[2] >= uz or ray[2] >= 0:  # at or above the UAV: nothing of the UAV is in front
+        return False
+    hit = view.pos + ray * (uz - view.pos[2]) / ray[2]
+    bx, by = rotate_xy(float(hit[0] - ux), float(hit[1] - uy), -episode.uav_start.yaw_deg)
+    if math.hypot(bx, by) <= UAV_HUB_RADIUS:
+        return True
+    rotor = UAV_ARM_LENGTH / math.sqrt(2)  # motor axes at +-45 and +-135 deg
+    return any(
+        math.hypot(bx - sx * rotor, by - sy * rotor) <= UAV_ROTOR_RADIUS
+        for sx in (-1, 1)
+        for sy in (-1, 1)
+    )
+
+
+def hidden_from_above(episode: Episode, views: dict[str, CameraView]) -> frozenset[str]:
+    """Task objects the UAV covers (:func:`uav_covers`) in the overhead view of ``views``."""
+    view = views.get(CAM_OVERHEAD)
+    if view is None:
+        return frozenset()
+    by_id = {o.id: o for o in episode.objects}
+    return frozenset(oid for oid in task_objects(episode) if uav_covers(episode, view, by_id[oid]))
+
+
 def frame_problem(episode: Episode, views: dict[str, CameraView] | None = None) -> str | None:
     """Why a third-person view cuts off part of the work area (the UAV, a task object or a
     part the plan names), or None."""
@@ -114,15 +151,30 @@ def frame_problem(episode: Episode, views: dict[str, CameraView] | None = None) 
     return None
 
 
-def legibility_score(episode: Episode, sizes: dict[str, dict[str, float]]) -> float:
+def legibility_score(
+    episode: Episode,
+    sizes: dict[str, dict[str, float]],
+    hidden: frozenset[str] = frozenset(),
+) -> float:
     """The least ratio, over task objects, of an object's size in its better view (``sizes``:
     :func:`object_pixel_sizes`) to :func:`min_pixels` times :data:`ESTIMATE_MARGIN`: legible
-    when at least 1."""
+    when at least 1. An object in ``hidden`` (:func:`hidden_from_above`) has no overhead view."""
     kinds = {o.id: o.kind for o in episode.objects}
     return min(
         (
-            max(by_view.values()) / (min_pixels(kinds[oid]) * ESTIMATE_MARGIN)
+            max(
+                (px for view, px in by_view.items() if view != CAM_OVERHEAD or oid not in hidden),
+                default=0.0,
+            )
+            / (min_pixels(kinds[oid]) * ESTIMATE_MARGIN)
             for oid, by_view in sizes.items()
         ),
         default=float("inf"),
     )
+
+
+def view_legibility(episode: Episode, views: dict[str, CameraView]) -> float:
+    """:func:`legibility_score` of ``episode`` shown with ``views``, the UAV covering what it
+    covers from above."""
+    sizes = object_pixel_sizes(episode, views=views)
+    return legibility_score(episode, sizes, hidden_from_above(episode, views))
