@@ -20,16 +20,12 @@ from vlm_bench.executor import execute_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
-_SWUNG_OUT = (
-    "the place's glide to above the release is refused (a 90 deg turn over 0.8 m brings a joint "
-    "to its limit) and the joint-space move that replaces it tilts the hand and swings the held "
-    "object out of the fingers"
-)
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("pick_left_cup_red", 2): f"red_cup_2 slips at the place: {_SWUNG_OUT}",
-    ("function_detergent", 5): "the cleanser slips out of the fingers during the place's glide",
-    ("function_detergent", 7): f"the cleanser slips at the place: {_SWUNG_OUT}",
-    ("contextual_spare_part", 9): "green_nut slips from the gripper at the place",
+    ("function_detergent", 7): (
+        "the cleanser spins out of the fingers on the glide swinging it 0.8 m round the arm base "
+        "(one pad on the nozzle's 8 mm end holds it, an unstable grip about the vertical): it "
+        "stays held at some turn rates (0.08-0.10 rad/s) and not at others (0.06, 0.12, level)"
+    ),
 }
 
 TASKS = [t.id for t in all_tasks()]
