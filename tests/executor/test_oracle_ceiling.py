@@ -22,9 +22,11 @@ from vlm_bench.types.plan import ArmStep
 
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
     ("function_detergent", 7): (
-        "the cleanser spins out of the fingers on the glide swinging it 0.8 m round the arm base "
-        "(one pad on the nozzle's 8 mm end holds it, an unstable grip about the vertical): it "
-        "stays held at some turn rates (0.08-0.10 rad/s) and not at others (0.06, 0.12, level)"
+        "the cleanser slips at the place: the straight glide to above the release is refused "
+        "(a joint at its limit), a tall object is not swung round the arm base (one pad on the "
+        "nozzle's 8 mm end holds it, a grip unstable about the vertical: swung, it spins out at "
+        "some turn rates and not others), and the joint-space move that replaces the glide "
+        "tilts the hand and swings it out"
     ),
 }
 

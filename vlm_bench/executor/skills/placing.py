@@ -269,11 +269,11 @@ class Placer:
     ) -> Descent | None:
         """Glide the hand to above the release towards ``plan``'s start: in a straight line
         (``level``: keeping its heading, for an object hanging wide or tall) or, where that
-        is refused, swinging round the arm base, turning with the swing to ``plan``'s
-        heading; the descent from where it ends (another branch, maybe: planned again
-        there), else ``None``."""
+        is refused and the object may turn, swinging round the arm base, turning with the
+        swing to ``plan``'s heading; the descent from where it ends (another branch, maybe:
+        planned again there), else ``None``."""
         lines, base = self.hand.lines, np.array(self.loop.data.body(ARM_BASE_BODY).xpos)
-        ways = ((None if level else plan.rotation, None), (plan.rotation, base))
+        ways = [(None, None)] if level else [(plan.rotation, None), (plan.rotation, base)]
         if not any(
             lines.glide(drop.above, rot, seconds, GRIPPER_CLOSED, plan.q_start, about)
             for rot, about in ways
