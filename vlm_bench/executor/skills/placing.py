@@ -241,7 +241,7 @@ class Placer:
         if (
             keep is not None
             and not keep.hits
-            and (done := self._glide(drop, keep, sol.shift, seconds)) is not None
+            and (done := self._glide(drop, keep, sol.shift, seconds, level)) is not None
         ):
             return done
         travel = drop.above - hand.tcp()[0]
