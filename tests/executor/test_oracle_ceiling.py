@@ -20,16 +20,14 @@ from vlm_bench.executor import execute_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
-_SWUNG_OUT = (
-    "the place's glide to above the release is refused (a 90 deg turn over 0.8 m brings a joint "
-    "to its limit) and the joint-space move that replaces it tilts the hand and swings the held "
-    "object out of the fingers"
-)
 KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("pick_left_cup_red", 2): f"red_cup_2 slips at the place: {_SWUNG_OUT}",
-    ("function_detergent", 5): "the cleanser slips out of the fingers during the place's glide",
-    ("function_detergent", 7): f"the cleanser slips at the place: {_SWUNG_OUT}",
-    ("contextual_spare_part", 9): "green_nut slips from the gripper at the place",
+    ("function_detergent", 7): (
+        "the cleanser slips at the place: the straight glide to above the release is refused "
+        "(a joint at its limit), a tall object is not swung round the arm base (one pad on the "
+        "nozzle's 8 mm end holds it, a grip unstable about the vertical: swung, it spins out at "
+        "some turn rates and not others), and the joint-space move that replaces the glide "
+        "tilts the hand and swings it out"
+    ),
 }
 
 TASKS = [t.id for t in all_tasks()]

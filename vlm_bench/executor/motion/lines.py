@@ -30,6 +30,50 @@ def steps(seconds: float) -> list[float]:
     return [min_jerk(i / n) for i in range(1, n + 1)]
 
 
+def _bearing(point: FloatArray, about: FloatArray) -> tuple[float, float]:
+    """``point``'s bearing (rad) and horizontal distance (m) from ``about``."""
+    d = point[:2] - about[:2]
+    return math.atan2(d[1], d[0]), float(np.linalg.norm(d))
+
+
+def glide_turn(
+    start: FloatArray, end: FloatArray, about: FloatArray | None, h0: float, h1: float | None
+) -> float:
+    """How far (rad) a glide from ``start`` to ``end`` turns the hand from heading ``h0`` to
+    ``h1``: the least turn on a line; on an arc round ``about``, the swing's bearing change
+    plus the least rest (the hand turns with the swing, as the base joint turns it). With
+    ``h1`` ``None`` no rest: the hand keeps its heading to the swing (none on a line)."""
+    sweep = 0.0
+    if about is not None:
+        sweep = math.remainder(_bearing(end, about)[0] - _bearing(start, about)[0], 2 * math.pi)
+    return sweep + (0.0 if h1 is None else math.remainder(h1 - h0 - sweep, 2 * math.pi))
+
+
+def arc_poses(
+    start: FloatArray,
+    end: FloatArray,
+    about: FloatArray,
+    h0: float,
+    turn: float,
+    progress: Sequence[float],
+) -> list[tuple[FloatArray, FloatArray]]:
+    """Top-down poses from ``start`` to ``end`` swinging round the vertical through
+    ``about``: bearing, distance from that axis and height each change evenly with
+    ``progress``, and the heading turns from ``h0`` by ``turn`` (rad). Round the arm base this
+    is the base joint's own swing: a straight line from one side of the base to the other
+    passes close under it, where the arm folds onto its limits."""
+    b0, r0 = _bearing(start, about)
+    b1, r1 = _bearing(end, about)
+    sweep = math.remainder(b1 - b0, 2 * math.pi)
+    poses = []
+    for s in progress:
+        b, r = b0 + sweep * s, r0 + (r1 - r0) * s
+        height = start[2] + (end[2] - start[2]) * s
+        point = np.array([about[0] + r * math.cos(b), about[1] + r * math.sin(b), height])
+        poses.append((point, top_down_rotation(h0 + turn * s)))
+    return poses
+
+
 class ArmLines:
     """Straight TCP motions of one loop's arm.
 
@@ -75,25 +119,34 @@ class ArmLines:
     def glide(
         self,
         end: FloatArray,
-        rotation: FloatArray,
+        rotation: FloatArray | None,
         seconds: float,
         gripper: float,
         q_end: FloatArray,
+        about: FloatArray | None = None,
     ) -> bool:
         """Carry the hand (pointing down) in a straight line from where it is to ``end``,
-        turning it about the vertical to ``rotation`` on the way and pulling the posture
+        turning it about the vertical to ``rotation`` on the way (``None``: keeping its
+        heading, to the swing on an arc) and pulling the posture
         towards ``q_end``: a joint-space move between two top-down postures tilts the hand
         midway, which swings an object held off its centre of mass out of the fingers.
-        Previewed first with
+        With ``about`` (a point, world), the hand swings round the vertical through it
+        instead (:func:`arc_poses`). Previewed first with
         the held object carried; ``False``, nothing moved, where IK loses the path, a joint
         would reach its limit or something would be touched."""
         start, now_rot = self.core.tcp()
-        if now_rot[2, 2] > -0.99 or rotation[2, 2] > -0.99:  # not pointing down
-            return False
+        if now_rot[2, 2] > -0.99 or (rotation is not None and rotation[2, 2] > -0.99):
+            return False  # not pointing down
         h0 = math.atan2(now_rot[1, 0], now_rot[0, 0])
-        turn = math.remainder(math.atan2(rotation[1, 0], rotation[0, 0]) - h0, 2 * math.pi)
+        h1 = None if rotation is None else math.atan2(rotation[1, 0], rotation[0, 0])
+        turn = glide_turn(start, end, about, h0, h1)
         progress = steps(seconds)
-        poses = [(start + (end - start) * s, top_down_rotation(h0 + turn * s)) for s in progress]
+        if about is None:
+            poses = [
+                (start + (end - start) * s, top_down_rotation(h0 + turn * s)) for s in progress
+            ]
+        else:
+            poses = arc_poses(start, end, about, h0, turn, progress)
         q0 = arm_qpos(self.loop.model, self.loop.data)
         rests = [q0 + (q_end - q0) * s for s in progress]
         path = self._preview(poses, rests)

@@ -12,7 +12,9 @@ from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.types.base import FloatArray
 
 CARRY_DEPTH = 0.30  # m below the arm base: a held object's TCP height in flight
-CARRY_SPEED = 0.15  # m/s: mean speed of the hand carrying an object (faster flings it)
+CARRY_SPEED = 0.15  # m/s: mean speed of the empty hand's raise...
+HELD_CARRY_SPEED = 0.1  # m/s: ...and of the raise holding an object, as a place's glide: a flat
+# nut gripped by its top few mm creeps down the pads and falls out at 0.15 m/s
 RAISE_JOINT_SPEED = 1.0  # rad/s: the fastest joint the straight raise to carry may need...
 RAISE_MARGIN = 0.01  # rad: ...and the nearest it may come to its limit (0: at IK's clamp)
 RAISE_SWING = 1.0  # rad: the widest joint swing of a joint-space raise with an object in hand:
@@ -49,9 +51,11 @@ def raise_to_carry(hand: Hand, rot: FloatArray, gripper: float) -> None:
 
 
 def _raise(hand: Hand, tcp: FloatArray, goal: FloatArray, rot: FloatArray, gripper: float) -> bool:
-    """The straight raise from ``tcp`` to ``goal`` at :data:`CARRY_SPEED`, where it is steady
-    (holding an object) and IK follows it; whether it got there."""
-    seconds = max(1.0, float(goal[2] - tcp[2]) / CARRY_SPEED)
+    """The straight raise from ``tcp`` to ``goal`` at :data:`CARRY_SPEED` (holding an object,
+    :data:`HELD_CARRY_SPEED`), where it is steady (holding one) and IK follows it; whether it
+    got there."""
+    speed = CARRY_SPEED if hand.loop.held is None else HELD_CARRY_SPEED
+    seconds = max(1.0, float(goal[2] - tcp[2]) / speed)
     if hand.loop.held is not None and (
         hand.lines.steady_line(tcp, goal, rot, seconds, RAISE_JOINT_SPEED, RAISE_MARGIN) is None
     ):

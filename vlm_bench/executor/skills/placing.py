@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vlm_bench.executor.motion.arm_core import MIN_MARGIN
 from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
@@ -155,7 +156,7 @@ class Placer:
         branch), let go and retreat; ``grip``: where the object sat in the hand before."""
         loop, hand, held, release = self.loop, self.hand, drop.held, drop.release
         hand.shift_base(sol.shift)
-        q_start, q_end, rot, shift = self._bring_over(drop, sol)
+        q_start, q_end, rot, shift = self._bring_over(episode, drop, sol)
         joint_move(loop, q_start, 2.0, GRIPPER_CLOSED, HELD_JOINT_SPEED)
         joint_move(loop, q_end, 1.5, GRIPPER_CLOSED, HELD_JOINT_SPEED)
         hold_with_gripper(loop, 0.3, GRIPPER_CLOSED)
@@ -165,8 +166,7 @@ class Placer:
             return SkillFailure(FailureCode.SLIPPED, f"{held} slipped from the gripper")
         if float(np.linalg.norm(hand.tcp()[0] - release)) > RELEASE_TOL:
             return SkillFailure(FailureCode.OUT_OF_REACH, f"{drop.dest} is out of reach")
-        kind = kind_of(episode, held)
-        if kind is not None and kind.size[2] > TALL * min(kind.size[:2]):
+        if _is_tall(episode, held):
             self._set_down(held, drop.dest, release, rot)
         hold_with_gripper(loop, 0.6, GRIPPER_OPEN)
         loop.held = None
@@ -212,7 +212,7 @@ class Placer:
             tcp = hand.tcp()[0]
         return tcp
 
-    def _bring_over(self, drop: _Drop, sol: Reach) -> Descent:
+    def _bring_over(self, episode: Episode, drop: _Drop, sol: Reach) -> Descent:
         """Carry the held object to above its release, with the UAV moved by ``sol``'s shift
         already: the hand glides there pointing down (turning to the plan's heading on the
         way, or, where the arm would meet itself turning, keeping its own); else the UAV flies
@@ -223,7 +223,8 @@ class Placer:
         hand, loop = self.hand, self.loop
         seconds = max(2.0, float(np.linalg.norm(drop.above - hand.tcp()[0])) / GLIDE_SPEED)
         now = arm_qpos(loop.model, loop.data)
-        level = self._hangs_wide(drop.held)
+        tall = _is_tall(episode, drop.held)
+        level = tall or self._hangs_wide(drop.held)
         if (done := self._glide(drop, sol, sol.shift, seconds, level)) is not None:
             return done
         # The plan's heading failed: a plan for the hand's heading now.
@@ -240,7 +241,7 @@ class Placer:
         if (
             keep is not None
             and not keep.hits
-            and (done := self._glide(drop, keep, sol.shift, seconds)) is not None
+            and (done := self._glide(drop, keep, sol.shift, seconds, level)) is not None
         ):
             return done
         travel = drop.above - hand.tcp()[0]
@@ -259,27 +260,61 @@ class Placer:
         return float(np.linalg.norm(off[:2])) > WIDE_HANG
 
     def _glide(
-        self, drop: _Drop, plan: Reach, shift: BaseMove, seconds: float, level: bool = False
+        self,
+        drop: _Drop,
+        plan: Reach,
+        shift: BaseMove,
+        seconds: float,
+        level: bool = False,
     ) -> Descent | None:
-        """Glide the hand to above the release towards ``plan``'s start (``level``: keeping
-        the hand's heading, for an object hanging wide); the descent from where it ends
-        (another branch, maybe: planned again there), else ``None``."""
-        rotation = top_down_rotation(drop.heading) if level else plan.rotation
-        if not self.hand.lines.glide(drop.above, rotation, seconds, GRIPPER_CLOSED, plan.q_start):
+        """Glide the hand to above the release towards ``plan``'s start: in a straight line
+        (``level``: keeping its heading, for an object hanging wide or tall) or, where that
+        is refused and the object may turn, swinging round the arm base, turning with the
+        swing to ``plan``'s heading; the descent from where it ends (another branch, maybe:
+        planned again there), else ``None``."""
+        lines, base = self.hand.lines, np.array(self.loop.data.body(ARM_BASE_BODY).xpos)
+        ways = [(None, None)] if level else [(plan.rotation, None), (plan.rotation, base)]
+        if not any(
+            lines.glide(drop.above, rot, seconds, GRIPPER_CLOSED, plan.q_start, about)
+            for rot, about in ways
+        ):
             return None
-        way = self._descent(drop, BaseMove.still()) or plan
+        way = self._descent(drop, BaseMove.still(), level) or plan
         return way.q_start, way.q_end, way.rotation, shift
 
-    def _descent(self, drop: _Drop, base: BaseMove) -> Reach | None:
+    def _descent(self, drop: _Drop, base: BaseMove, level: bool = False) -> Reach | None:
         """The clear way down from above the release with the UAV moved by ``base``, starting
-        within :data:`GLIDE_TOL` of the arm's posture now (the hand already above), if any."""
+        within :data:`GLIDE_TOL` of the arm's posture now (the hand already above), if any;
+        ``level``: at the hand's heading now where that way is clear (:meth:`_level_descent`)."""
         now = arm_qpos(self.loop.model, self.loop.data)
+        if level and (down := self._level_descent(drop, base, now)) is not None:
+            return down
         down = self._plan_top_down(
             drop.release, drop.above - drop.release, drop.heading, drop.ignore, now, [base]
         )
         if down is None or down.hits or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
             return None
         return down
+
+    def _level_descent(self, drop: _Drop, base: BaseMove, now: FloatArray) -> Reach | None:
+        """The way down at the hand's heading now, starting within :data:`GLIDE_TOL` of the
+        arm's posture ``now``, touching nothing and ending clear of the joint limits; the
+        start may lie nearer a limit than a plan's :data:`MIN_MARGIN` (the arm stands there
+        already: the glide brought it, within its own margin)."""
+        core = self.hand.core
+        rot = self.hand.tcp()[1]
+        heading = math.atan2(rot[1, 0], rot[0, 0])
+        down = self._plan_top_down(
+            drop.release, drop.above - drop.release, heading, drop.ignore, now, [base], 1
+        )
+        if down is None or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
+            return None
+        if core.ik.limit_margin(down.q_end) < MIN_MARGIN:
+            return None
+        query = CollisionQuery.of(drop.ignore, GRIPPER_CLOSED, base, core.carried())
+        if core.hits_at(core.joint_samples(down.q_start, down.q_end, base), query, limit=0):
+            return None
+        return down._replace(hits=0)
 
     def _plan_top_down(
         self,
@@ -289,11 +324,13 @@ class Placer:
         ignore: set[int],
         seed: FloatArray,
         assist: list[BaseMove] | None = None,
+        turns: int = 4,
     ) -> Reach | None:
         """The top-down motion from ``point + approach`` down to ``point`` with the object
-        held, over the four headings equivalent for a box-like object, preferring those that
-        keep :data:`PLACE_CLEARANCE` from the rest."""
-        rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(4)]
+        held, over the four headings equivalent for a box-like object (the first ``turns``
+        of them: 1, ``yaw_rad`` alone), preferring those that keep :data:`PLACE_CLEARANCE`
+        from the rest."""
+        rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(turns)]
         return self.hand.planner.plan(
             point, approach, rotations, ignore, GRIPPER_CLOSED, seed, assist, PLACE_CLEARANCE
         )
@@ -324,3 +361,9 @@ class Placer:
         """Where ``obj`` is in the hand's frame (m)."""
         tcp, rot = self.hand.tcp()
         return rot.T @ (np.array(self.loop.data.body(obj).xpos) - tcp)
+
+
+def _is_tall(episode: Episode, held: str) -> bool:
+    """Whether ``held`` is :data:`TALL` (a bottle): it hangs from its top in the hand."""
+    kind = kind_of(episode, held)
+    return kind is not None and kind.size[2] > TALL * min(kind.size[:2])
