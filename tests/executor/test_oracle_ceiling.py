@@ -20,15 +20,7 @@ from vlm_bench.executor import execute_plan
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 
-KNOWN_FAILURES: dict[tuple[str, int], str] = {  # (task, seed) -> reason observed
-    ("function_detergent", 7): (
-        "the cleanser slips at the place: the straight glide to above the release is refused "
-        "(a joint at its limit), a tall object is not swung round the arm base (one pad on the "
-        "nozzle's 8 mm end holds it, a grip unstable about the vertical: swung, it spins out at "
-        "some turn rates and not others), and the joint-space move that replaces the glide "
-        "tilts the hand and swings it out"
-    ),
-}
+KNOWN_FAILURES: dict[tuple[str, int], str] = {}  # (task, seed) -> reason observed
 
 TASKS = [t.id for t in all_tasks()]
 CI_TASKS = (

@@ -126,3 +126,21 @@ def test_a_curved_banana_is_held_on_its_middle_not_its_bounding_box() -> None:
     middle_y = rings[len(rings) // 2][0][1]  # the arc's middle, across the banana (body frame)
     assert abs(float((rot.T @ (cand.point - body.xpos))[1]) - middle_y) > 0.015  # the box's
     assert float((rot.T @ (point - body.xpos))[1]) == pytest.approx(middle_y, abs=0.003)
+
+
+@pytest.mark.parametrize("yaw_deg", [0.0, 30.0, 90.0])
+def test_a_cleanser_is_held_by_its_cap_with_no_pad_on_the_nozzle(yaw_deg: float) -> None:
+    """function_detergent seed 7: one pad on the nozzle's 8 mm end (the bottle's +x) held the
+    bottle in a grip unstable about the vertical, and the place swung it out of the fingers.
+    Every candidate's fingers close square to the nozzle, on the cap's round sides."""
+    kind = object_kind("cleanser")
+    yaw = math.radians(yaw_deg)
+    nozzle = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+    lo, hi = _box(kind.size)
+    cands = grasp_points(kind, np.zeros(3), yaw, lo, hi)
+    assert cands
+    for cand in cands:
+        assert np.allclose(cand.point[:2], 0.0)
+        assert hi[2] - 0.028 < cand.point[2] < hi[2]  # on the cap
+        for axis in _closing_axes(cand.rotations):
+            assert abs(float(np.dot(axis, nozzle))) < 1e-9

@@ -151,10 +151,9 @@ def test_a_steady_line_refuses_a_joint_whip() -> None:
     assert np.array_equal(arm_qpos(loop.model, loop.data), q)
 
 
-def test_a_cleanser_is_held_across_its_nozzle() -> None:
-    """function_detergent seed 4: closing along the nozzle, the flat pads squeezed the round
-    cap alone and it rolled out from between them. Closed across it, one pad on the
-    nozzle's end, the bottle comes up in the hand."""
+def test_a_cleanser_held_by_its_cap_comes_up_in_the_hand() -> None:
+    """function_detergent seed 4: the pads close on the cap's round sides, the nozzle beside
+    them (no pad on its end), and the bottle comes up in the hand."""
     episode = incident_episode("function_detergent", 4)
     loop = SimLoop(build_scene(episode))
     execution = PlanExecution(episode, loop, default_skills(loop))

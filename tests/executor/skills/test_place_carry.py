@@ -29,8 +29,8 @@ def test_a_cup_carried_across_the_arm_base_swings_round_it() -> None:
 
 
 def test_a_bottle_held_by_its_cap_keeps_its_heading_over_the_bowl() -> None:
-    # Turned 1.6 rad over 0.14 m, the cleanser spun out from between the pads (one pad on
-    # the nozzle's end), however slow the turn; the hand now keeps its heading and goes down
+    # Turned 1.6 rad over 0.14 m, the cleanser spun out from between the pads (when one pad
+    # was on the nozzle's end), however slow the turn; the hand now keeps its heading and goes down
     # at it, though that start lies 0.043 rad from a joint limit, where the glide left it.
     _places("function_detergent", 5)
 

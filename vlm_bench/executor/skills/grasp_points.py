@@ -5,8 +5,8 @@ or a chocolate box across its width, a box or a can across its 6 cm side, a 7 cm
 its shaft (end to end it slips out), a hex nut across two flats. A bowl, 16 cm across, and a
 mug, whose 7.2 cm cup leaves the open fingers 4 mm each side, are held by the rim, one finger
 inside and one outside the wall, closing radially; a mug's rim away from its handle (+x). A
-teddy bear is held by its head, across the ears; a cleanser bottle by its cap. The hand's x axis
-is its heading; the fingers close along its y axis.
+teddy bear is held by its head, across the ears; a cleanser bottle by its cap, the nozzle
+beside the pads. The hand's x axis is its heading; the fingers close along its y axis.
 """
 
 from __future__ import annotations
@@ -95,13 +95,11 @@ def grasp_points(
         return [GraspPoint(head, _headings(yaw, 2))]
     if kind.name == "cleanser":
         # By the cap (2.8 cm tall for the pads' 2.6 cm): the palm would meet it lower down.
-        # Closing across the nozzle (one pad on its flat end) holds; closing along it, the
-        # round cap alone rolls out between the flat pads as they squeeze.
+        # A pad never rests on a feature narrower than itself: the pads close on the cap's
+        # round sides with the nozzle along the hand's x, beside them. A pad on the nozzle's
+        # 8 mm end holds a grip unstable about the vertical that a turn of the hand spins out.
         cap = np.array([pos[0], pos[1], float(hi[2]) - CAP_BELOW_TOP])
-        return [
-            GraspPoint(cap, _headings(yaw + math.pi / 2, 2)),
-            GraspPoint(cap, _headings(yaw, 2)),
-        ]
+        return [GraspPoint(cap, _headings(yaw, 2))]
     if kind.name == "nut":
         # Across two flats (any of three pairs, either way round): closing on two corners,
         # the pads push the nut round, and the six headings leave more ways past a wall.
