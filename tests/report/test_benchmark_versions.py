@@ -78,7 +78,7 @@ def test_report_cli_refuses_and_accepts_mixed_versions(
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: runs of different benchmark versions")
     assert (
-        "new (version 2)" in lines[0]
+        f"new (version {BENCHMARK_VERSION})" in lines[0]
         and "run_v1 (version 1, from before versions were recorded)" in lines[0]
     )
     out = cli.invoke(

@@ -33,7 +33,7 @@ def _manifest(config: RunConfig, run_id: str = "run") -> RunManifest:
 
 def test_every_new_manifest_records_this_releases_version() -> None:
     config = run_config(model="oracle")
-    assert config.benchmark_version == BENCHMARK_VERSION == 2
+    assert config.benchmark_version == BENCHMARK_VERSION == 3
     data = _manifest(config).model_dump(mode="json")
     assert data["config"]["benchmark_version"] == BENCHMARK_VERSION
     assert RunManifest.model_validate(data).config.benchmark_version == BENCHMARK_VERSION
@@ -57,7 +57,7 @@ def test_version_1_configs_keep_their_hash_and_version_2_ones_change() -> None:
     )
     assert v1.config_hash().startswith("c133db4028ad1d01")
     v2 = run_config(model="oracle", seeds=(0, 1))
-    assert v2.hashed_fields()["benchmark_version"] == 2
+    assert v2.hashed_fields()["benchmark_version"] == BENCHMARK_VERSION
     # The version and its S_loc default are all that differ between the two defaults.
     assert config_differences(v1, v2) == ["benchmark_version", "scoring.loc_alignment"]
     assert v2.short_hash() != v1.short_hash()
@@ -75,7 +75,7 @@ def test_a_version_1_run_is_not_resumed_by_this_release(tmp_path: Path) -> None:
 
 
 def test_a_run_of_another_version_is_refused_before_a_folder_is_made(tmp_path: Path) -> None:
-    with pytest.raises(BenchmarkVersionError, match=r"version 1, .* evaluates version 2") as info:
+    with pytest.raises(BenchmarkVersionError, match=r"version 1, .* evaluates version 3") as info:
         vlm_bench.run(
             model="oracle", tasks=("tower_stacking",), benchmark_version=1, out=tmp_path / "r"
         )

@@ -1,11 +1,11 @@
 """Episode = task × seed: layout, UAV start, lighting, GT plan (docs/design.md#episodes).
 
 Seed 0 is the canonical layout (objects exactly as in the task file); other seeds jitter movable
-objects. Every seed places the UAV start at a different bearing/heading/distance so that at least
-one UAV move is needed; the first move's body-frame direction cycles through the eight sectors,
-and (seeds 1-9) the start altitude through below, at and above the first ARM step's working
-altitude, so the first segment's ``up``/``down`` changes between seeds. Seed 0 keeps the
-canonical start, level with the working altitude. Sampling is deterministic in (task id, seed).
+objects and draw each table's height. Every seed places the UAV start at a different
+bearing/heading/distance so that at least one UAV move is needed; the first move's body-frame
+sector and the first segment's vertical move are drawn as :mod:`vlm_bench.episodes.start` says,
+so that the stated start altitude tells nothing about them. Sampling is deterministic in
+(task id, seed).
 """
 
 from __future__ import annotations
@@ -16,14 +16,14 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from vlm_bench.catalog.tasks import get_task, task_index
+from vlm_bench.catalog.tasks import get_task
 from vlm_bench.catalog.world_catalog import environment, object_kind
 from vlm_bench.episodes.gt_builder import AmbiguousGeometry, GroundTruthBuilder
 from vlm_bench.episodes.layout import part_refs, place_objects, support_kinds
 from vlm_bench.episodes.plane_geometry import point_rect_distance, rect_corners
+from vlm_bench.episodes.start import first_sector, first_table_kind, start_altitude
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
-from vlm_bench.rules.approach import VERTICAL_MARGIN
 from vlm_bench.sim.cameras import third_person_views
 from vlm_bench.sim.legible_views import legible_views
 from vlm_bench.sim.view_sizes import (
@@ -39,11 +39,8 @@ from vlm_bench.types.task import TaskSpec
 
 MAX_ATTEMPTS = 500
 LEGIBLE_TRIES = 40  # valid layouts drawn for a legible one before the most legible is kept
-START_ALTITUDE = (1.10, 2.20)  # m, range of the UAV body altitude at the start
-START_CLIMB = 0.70  # m: the most the start lies below or above the first working altitude
 START_DISTANCE = (0.95, 1.6)  # m, horizontal distance to the first ARM object
 CANONICAL_DISTANCE = (1.3, 2.0)  # m: the same for seed 0
-CANONICAL_ALTITUDE = (1.47, 1.53)  # m: seed 0 starts level with a table's working altitude
 BEARING_SPREAD = 12.0  # deg around the sector centre (boundaries are 22.5 deg away)
 FRONT_CONE = 35.0  # deg, start cone for parts approached from the front (drawers)
 WALL_CLEARANCE = 0.8  # m
@@ -53,11 +50,6 @@ OBSERVE_CLEARANCE = 0.40  # m: ...within 0.28 m of it: a table top under it woul
 OBSERVE_GAP = 0.05  # m: least gap from the hanging arm down to anything under it
 
 
-def first_sector(task_id: str, seed: int) -> int:
-    """Body-frame sector (0 = front, CCW) of the first move: cycles over seeds and tasks."""
-    return (task_index(task_id) * 3 + seed) % 8
-
-
 def _rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
     return np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt])
 
@@ -65,39 +57,6 @@ def _rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
 def _support_rng(task_id: str, seed: int, attempt: int) -> np.random.Generator:
     """Draws the tables' heights apart from the layout's jitter (same jitter, any heights)."""
     return np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt, 7_919])
-
-
-def vertical_start(task_id: str, seed: int) -> int:
-    """Where the start altitude lies from the first working altitude: -1 below it (the first
-    segment climbs), 0 at it (no vertical move), +1 above it (descends); cycles over seeds and
-    tasks."""
-    return (task_index(task_id) + seed) % 3 - 1
-
-
-def altitude_bands(working: float) -> dict[int, tuple[float, float]]:
-    """Start altitude ranges (m) below (-1), at (0) and above (+1) the working altitude
-    ``working``, inside :data:`START_ALTITUDE` and clear of the vertical threshold by
-    :data:`~vlm_bench.rules.approach.VERTICAL_MARGIN`; a side the range leaves no room on is
-    left out."""
-    lo, hi = START_ALTITUDE
-    near = APPROACH.vertical_threshold - VERTICAL_MARGIN  # within: no vertical move
-    far = APPROACH.vertical_threshold + VERTICAL_MARGIN  # beyond: a vertical move
-    bands = {
-        -1: (max(lo, working - START_CLIMB), working - far),
-        0: (max(lo, working - near), min(hi, working + near)),
-        1: (working + far, min(hi, working + START_CLIMB)),
-    }
-    return {side: (a, b) for side, (a, b) in bands.items() if a <= b}
-
-
-def start_altitudes(task_id: str, seed: int, attempt: int, working: float) -> list[float]:
-    """Start altitudes (m) to try, one per side of the working altitude that the range allows,
-    the side :func:`vertical_start` asks for first, then the next ones round."""
-    bands = altitude_bands(working)
-    rng = np.random.default_rng([zlib.crc32(task_id.encode()), seed, attempt, 31_337])
-    first = vertical_start(task_id, seed)
-    sides = [(first + 1 + k) % 3 - 1 for k in range(3)]
-    return [round(float(rng.uniform(*bands[s])), 4) for s in sides if s in bands]
 
 
 def _lighting(task_id: str, seed: int) -> Lighting:
@@ -129,8 +88,7 @@ def _sample_start(
     dist = float(rng.uniform(*(CANONICAL_DISTANCE if seed == 0 else START_DISTANCE)))
     x = target[0] - dist * math.cos(math.radians(world_bearing))
     y = target[1] - dist * math.sin(math.radians(world_bearing))
-    z = float(rng.uniform(*CANONICAL_ALTITUDE)) if seed == 0 else 0.0
-    return UavPose(pos=(round(x, 4), round(y, 4), round(z, 4)), yaw_deg=round(yaw, 3))
+    return UavPose(pos=(round(x, 4), round(y, 4), 0.0), yaw_deg=round(yaw, 3))
 
 
 def _check_start(task: TaskSpec, start: UavPose, objects: list) -> None:  # type: ignore[type-arg]
@@ -195,6 +153,9 @@ def _candidates(
         rng = _rng(task.id, seed, attempt)
         try:
             kinds = support_kinds(task, None if seed == 0 else _support_rng(task.id, seed, attempt))
+            first = first_table_kind(task, seed)  # its height decides the first up/down
+            if first is not None:
+                kinds[first[0]] = first[1]
             objects = place_objects(task, None if seed == 0 else rng, kinds)
             parts = part_refs(objects)
             builder = GroundTruthBuilder(objects, parts)
@@ -204,26 +165,22 @@ def _candidates(
             _count(reasons, exc)
             continue
         working = APPROACH.operating_altitude(float(target[2]))
-        heights = [level.pos[2]] if seed == 0 else start_altitudes(task.id, seed, attempt, working)
-        for z in heights:
-            start = UavPose(pos=(level.pos[0], level.pos[1], z), yaw_deg=level.yaw_deg)
-            try:
-                _check_start(task, start, objects)
-                plan, poses = builder.build(start, task.arm_steps)
-                episode = _episode(task, seed, objects, parts, start, plan, poses)
-                views = third_person_views(episode)
-                problem = frame_problem(episode, views)
-                if problem is not None:
-                    raise AmbiguousGeometry(problem)
-            except ValueError as exc:
-                _count(reasons, exc)
-                continue
-            # The first start altitude the geometry allows is the attempt's; the sizes judge
-            # the attempt, never the altitude (a low start frames tighter).
-            sizes = object_pixel_sizes(episode, views=views)
-            score = legibility_score(episode, sizes, hidden_from_above(episode, views))
-            yield score, episode.model_copy(update={"object_px": sizes})
-            break
+        z = start_altitude(task, seed, attempt, working)
+        start = UavPose(pos=(level.pos[0], level.pos[1], z), yaw_deg=level.yaw_deg)
+        try:
+            _check_start(task, start, objects)
+            plan, poses = builder.build(start, task.arm_steps)
+            episode = _episode(task, seed, objects, parts, start, plan, poses)
+            views = third_person_views(episode)
+            problem = frame_problem(episode, views)
+            if problem is not None:
+                raise AmbiguousGeometry(problem)
+        except ValueError as exc:
+            _count(reasons, exc)
+            continue
+        sizes = object_pixel_sizes(episode, views=views)
+        score = legibility_score(episode, sizes, hidden_from_above(episode, views))
+        yield score, episode.model_copy(update={"object_px": sizes})
 
 
 def _shown(score: float, episode: Episode) -> tuple[float, Episode]:

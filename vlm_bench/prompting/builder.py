@@ -12,6 +12,7 @@ from vlm_bench.prompting.examples import example_plan, example_scene_text, selec
 from vlm_bench.prompting.skills_section import skill_rows, skills_digest
 from vlm_bench.prompting.templates import render, templates_digest
 from vlm_bench.rules import format_scene, rule_numbers, scene_entries
+from vlm_bench.rules.cameras import camera_numbers
 from vlm_bench.storage.png import to_png
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import TextPart
@@ -63,6 +64,7 @@ def render_system(config: PromptConfig, examples: Sequence[FewShotExample] = ())
         object_list=config.object_list,
         scene_as_text=config.scene_as_text,
         rules=rule_numbers(),
+        cameras=camera_numbers(),
         examples=shots,
     )
 

@@ -11,7 +11,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from vlm_bench.report.floors import blind_s_loc
 from vlm_bench.storage import NotARunError, RunPaths, latest_records, read_manifest
 from vlm_bench.types.records import EpisodeRecord
-from vlm_bench.types.scores import ScoringConfig
+from vlm_bench.types.scores import PlanScores, ScoringConfig
 
 DEFAULT = ScoringConfig()
 
@@ -22,6 +22,9 @@ EXEC_METRICS = ("exec_success", "S_task", "S_pos", "S_arm", "S_safe", "VLA_total
 """Execution columns (docs/design.md#execution-metrics): success, sub-goal completion and the
 paper's VLA metrics. Missing (<NA>/NaN) for runs that do not execute plans and for backend
 errors; False/0 for an answered episode of an executing run whose output held no plan."""
+
+PADDING = ("Move_ratio", "S_loc_prec")
+"""S_loc's padding diagnostics (floats; see :data:`COLUMNS`)."""
 
 NO_PLAN = "no_plan"
 """``exec_failure_code`` of an answered episode of an executing run with no plan to execute
@@ -41,6 +44,7 @@ COLUMNS = (
     "Succ",
     "S_loc_blind",
     "Loc_over_blind",
+    *PADDING,
     "first_target_visible",
     *EXEC_METRICS,
     "exec_failure",
@@ -56,7 +60,10 @@ COLUMNS = (
 Types: the scores (``S_*``, ``VLA_total``, 0-100) are floats; the per-episode outcomes ``Succ``
 and ``exec_success`` are nullable booleans (True/False/<NA>), which the tables turn into
 percentages of episodes; ``error_tags`` is a list of strings; the token counts are nullable
-integers (``Int64``, <NA> where the backend did not say)."""
+integers (``Int64``, <NA> where the backend did not say). ``Move_ratio`` (predicted UAV steps /
+GT moves) and ``S_loc_prec`` (S_loc's credits over the larger of the two) show padding beside
+S_loc (docs/metrics.md#padding); both are NaN in records from before version 3, which lack
+the count, and ``Move_ratio`` where the GT has no move."""
 OUTCOMES = ("Succ", "exec_success")
 """Per-episode outcomes: nullable booleans in the frame, percentages in the tables."""
 TOKENS = ("prompt_tokens", "completion_tokens")
@@ -90,6 +97,16 @@ def _exec_values(record: EpisodeRecord, executed: bool) -> dict[str, object]:
     }
 
 
+def _padding_values(scores: PlanScores | None) -> dict[str, float | None]:
+    """``Move_ratio`` and ``S_loc_prec`` of one record (see :data:`COLUMNS`)."""
+    if scores is None:
+        return {"Move_ratio": None, "S_loc_prec": None}
+    if "s_loc_precision" not in scores.model_fields_set:  # written before version 3
+        return {"Move_ratio": math.nan, "S_loc_prec": math.nan}
+    ratio = scores.n_move_pred / scores.n_move if scores.n_move else math.nan
+    return {"Move_ratio": ratio, "S_loc_prec": scores.s_loc_precision}
+
+
 def _row(record: EpisodeRecord, executed: bool, scoring: ScoringConfig) -> dict[str, object]:
     scores = record.scores
     floor = blind_s_loc(record, scoring) if scores else None
@@ -111,6 +128,7 @@ def _row(record: EpisodeRecord, executed: bool, scoring: ScoringConfig) -> dict[
         "Succ": scores.succ if scores else None,
         "S_loc_blind": floor,
         "Loc_over_blind": scores.s_loc - floor if scores and floor is not None else None,
+        **_padding_values(scores),
         "first_target_visible": record.first_target_visible,
         **_exec_values(record, executed),
         "error_tags": list(record.error_tags),
@@ -151,7 +169,7 @@ def records_frame(
     options = scoring or {}
     rows = [_row(r, runs[r.run_id], options.get(r.run_id, DEFAULT)) for r in records]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
-    for col in (*METRICS, "S_loc_blind", "Loc_over_blind", *EXEC_METRICS):
+    for col in (*METRICS, "S_loc_blind", "Loc_over_blind", *PADDING, *EXEC_METRICS):
         if col not in OUTCOMES:
             frame[col] = frame[col].astype(float)
     for col in OUTCOMES:

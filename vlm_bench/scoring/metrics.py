@@ -9,6 +9,8 @@ Documented choices where the paper is open:
   pairing (``ScoringConfig.loc_alignment``: ``content`` by default, ``segment``, ``order``) is
   :mod:`vlm_bench.scoring.loc_pairing`.
 * A GT with no UAV step / no object reference / no ARM step: see :class:`EmptyGtPolicy`.
+* S_loc_prec, S_loc's diagnostic against padding, divides the same credits by
+  max(N_move, predicted UAV steps); with no GT move it is S_loc (the empty-GT policy).
 * An output with no usable plan scores 0 everywhere (docs/design.md#metrics), whatever the policy.
 """
 
@@ -105,17 +107,19 @@ def score_plan(
         raise ConfigError("the ground-truth plan is empty; cannot score against it")
     steps = parsed.steps if parsed.usable else ()
     n_move = sum(isinstance(g, UavStep) for g in gt)
+    n_move_pred = sum(s.tasktype == "UAV" for s in steps)
     m, k, n = type_matches(steps, gt), len(steps), len(gt)
     credits = loc_credits(steps, gt, config.neighbour_credit, config.loc_alignment)
     m_obj, k_obj, n_obj = object_counts(steps, gt)
     m_skill, n_skill = skill_counts(steps, gt)
     if not parsed.usable:
-        s_plan = s_loc = s_obj = s_skill = 0.0
+        s_plan = s_loc = s_loc_precision = s_obj = s_skill = 0.0
     else:
         policy = config.empty_gt
         s_plan = plan_score(m, k, n, config.alpha)
         has_moves = any(s.tasktype == "UAV" for s in steps)
         s_loc = _clamp(sum(credits) / n_move) if n_move else _empty_gt(has_moves, policy)
+        s_loc_precision = _clamp(sum(credits) / max(n_move, n_move_pred)) if n_move else s_loc
         s_obj = _clamp(100.0 * (m_obj - k_obj) / n_obj) if n_obj else _empty_gt(k_obj > 0, policy)
         has_arm = any(s.tasktype == "ARM" for s in steps)
         s_skill = _clamp(100.0 * m_skill / n_skill) if n_skill else _empty_gt(has_arm, policy)
@@ -132,6 +136,8 @@ def score_plan(
         k=k,
         n=n,
         n_move=n_move,
+        n_move_pred=n_move_pred,
+        s_loc_precision=s_loc_precision,
         loc_credit=tuple(credits),
         m_obj=m_obj,
         k_obj=k_obj,

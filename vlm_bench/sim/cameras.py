@@ -17,6 +17,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.catalog.world_catalog import environment, object_kind
+from vlm_bench.rules.cameras import (
+    MAX_FOVY,
+    OVERHEAD_FOVY,
+    OVERHEAD_TILT_DEG,
+    SIDE_ELEVATION_DEG,
+    SIDE_FOVY,
+)
 from vlm_bench.sim.constants import (
     CAM_OVERHEAD,
     CAM_SIDE,
@@ -33,13 +40,8 @@ from vlm_bench.sim.framing import (
 from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode, EpisodeObject
 
-OVERHEAD_FOVY = 30.0
-OVERHEAD_TILT_DEG = 11.3  # from straight down towards +y, so object heights read
-SIDE_FOVY = 40.0
-SIDE_ELEVATION_DEG = 28.0
 SIDE_AZIMUTH_STEP_DEG = 20.0  # candidate side azimuths: preferred one ± k steps
 SIDE_MIN_ARROW = 0.045  # least length of the UAV's heading arrow in the side view (image sides)
-MAX_FOVY = 75.0  # widest field of view used to bring a camera inside the room
 FOVY_STEP = 5.0
 WALL_CLEARANCE = 0.3  # least distance from a camera to the room's walls (m)
 UAV_MARGIN = 0.6  # rotor tips reach 0.5 m from the UAV's centre, the heading arrow 0.52 m

@@ -19,6 +19,8 @@ from PIL import Image, ImageDraw, ImageFont
 from vlm_bench.errors import UnknownNameError
 
 RGBImage = NDArray[np.uint8]
+Box = tuple[float, float, float, float]
+"""A pixel box ``(u0, v0, u1, v1)``."""
 Font = ImageFont.FreeTypeFont | ImageFont.ImageFont
 
 _TAG_FILL = (255, 255, 255)
@@ -80,56 +82,88 @@ def project_points(
     return uv, visible
 
 
-def draw_labels(image: RGBImage, labels: Sequence[tuple[str, tuple[float, float]]]) -> RGBImage:
+def tag_layout(
+    image: tuple[int, int],
+    labels: Sequence[tuple[str, tuple[float, float]]],
+    avoid: Sequence[Box] = (),
+) -> list[tuple[str, tuple[float, float], Box]]:
+    """Where :func:`draw_labels` puts each tag: ``(text, point, box)`` for the labels whose
+    point lies inside an ``image`` of ``(width, height)`` px.
+
+    Each tag goes to the spot round its point that covers the least of ``avoid`` (the pixel
+    boxes of the task objects), then of earlier tags and marked points, then the nearest one
+    (up-right first) that stays inside the image.
+    """
+    w, h = image
+    font_px, pad, offset, dot = _metrics(h)
+    font = ui_font(font_px)
+    inside = [(t, (u, v)) for t, (u, v) in labels if 0 <= u < w and 0 <= v < h]
+    marks = [(u - 2 * dot, v - 2 * dot, u + 2 * dot, v + 2 * dot) for _, (u, v) in inside]
+    placed: list[Box] = []
+    out = []
+    for text, point in inside:
+        left, top, right, bottom = font.getbbox(text)
+        size = (right - left + 2 * pad, bottom - top + 2 * pad)
+        box = _place(point, size, offset, (w, h), list(avoid), placed + marks)
+        placed.append(box)
+        out.append((text, point, box))
+    return out
+
+
+def _metrics(height: int) -> tuple[int, int, int, int]:
+    """Font size, tag padding, tag offset and dot radius (px) for an image ``height`` px high."""
+    font_px = max(10, min(22, height // 28))
+    return font_px, max(2, font_px // 5), max(6, font_px // 2), max(2, font_px // 6)
+
+
+def draw_labels(
+    image: RGBImage,
+    labels: Sequence[tuple[str, tuple[float, float]]],
+    avoid: Sequence[Box] = (),
+) -> RGBImage:
     """Draw set-of-marks tags: a dot at each point and a white tag with dark text beside it.
 
-    Each tag goes to the nearest spot around its point that stays inside the image and covers
-    no earlier tag and no marked point (up-right first); a thin leader joins tag and dot. Points
-    outside the image are skipped.
+    Tags are placed by :func:`tag_layout` (off the ``avoid`` boxes, off each other and the
+    marked points, inside the image); a thin leader joins tag and dot. Points outside the image
+    are skipped.
 
     Args:
         image: ``(H, W, 3)`` uint8 RGB image (not modified).
         labels: ``(text, (u, v))`` pairs in pixel coordinates (see module docstring).
+        avoid: Pixel boxes ``(u0, v0, u1, v1)`` no tag should cover (the task objects).
 
     Returns:
         A new image with the tags drawn.
     """
     out = Image.fromarray(np.asarray(image, dtype=np.uint8)).convert("RGB")
     draw = ImageDraw.Draw(out)
-    w, h = out.size
-    font_px = max(10, min(22, h // 28))
+    font_px, pad, _, dot = _metrics(out.size[1])
     font = ui_font(font_px)
-    pad, offset, dot = max(2, font_px // 5), max(6, font_px // 2), max(2, font_px // 6)
-    inside = [(t, (u, v)) for t, (u, v) in labels if 0 <= u < w and 0 <= v < h]
-    marks = [(u - 2 * dot, v - 2 * dot, u + 2 * dot, v + 2 * dot) for _, (u, v) in inside]
-    placed: list[Box] = []
-    for text, (u, v) in inside:
-        left, top, right, bottom = draw.textbbox((0, 0), text, font=font)
-        size = (right - left + 2 * pad, bottom - top + 2 * pad)
-        box = _place((u, v), size, offset, (w, h), placed + marks)
-        placed.append(box)
+    layout = tag_layout(out.size, labels, avoid)
+    for text, (u, v), box in layout:
+        left, top, _, _ = font.getbbox(text)
         anchor = (min(max(u, box[0]), box[2]), min(max(v, box[1]), box[3]))
         draw.line([(u, v), anchor], fill=_TAG_EDGE, width=1)
         draw.rectangle(box, fill=_TAG_FILL, outline=_TAG_EDGE, width=1)
         draw.text((box[0] + pad - left, box[1] + pad - top), text, fill=_TAG_TEXT, font=font)
-    for _, (u, v) in inside:  # dots last, so no tag hides a point
+    for _, (u, v), _ in layout:  # dots last, so no tag hides a point
         draw.ellipse((u - dot, v - dot, u + dot, v + dot), fill=_DOT, outline=_TAG_EDGE)
     return np.asarray(out, dtype=np.uint8).copy()
 
 
-Box = tuple[float, float, float, float]
 # Tag directions from the point, in order of preference: up-right, up-left, down-right, ...
 _DIRECTIONS = ((1, -1), (-1, -1), (1, 1), (-1, 1), (0, -1), (0, 1), (1, 0), (-1, 0))
-_RINGS = (1.0, 2.5, 4.5)
+_RINGS = (1.0, 2.5, 4.5, 7.0, 10.0)
 
 
 def _place(
     point: tuple[float, float], size: tuple[float, float], offset: float,
-    image: tuple[int, int], obstacles: list[Box],
+    image: tuple[int, int], avoid: list[Box], obstacles: list[Box],
 ) -> Box:  # fmt: skip
-    """The tag box with the least overlap with ``obstacles``, then nearest, then least clamped."""
+    """The tag box with the least overlap with ``avoid``, then with ``obstacles``, then
+    nearest, then least clamped."""
     (u, v), (bw, bh), (w, h) = point, size, image
-    best: tuple[float, int, float, int] | None = None
+    best: tuple[float, float, int, float, int] | None = None
     best_box: Box = (0.0, 0.0, bw, bh)
     for ring_index, ring in enumerate(_RINGS):
         for k, (dx, dy) in enumerate(_DIRECTIONS):
@@ -139,6 +173,7 @@ def _place(
             y0 = min(max(y, 0.0), max(h - 1 - bh, 0.0))
             box = (x0, y0, x0 + bw, y0 + bh)
             cost = (
+                sum(_overlap(box, o) for o in avoid),
                 sum(_overlap(box, o) for o in obstacles),
                 ring_index,
                 abs(x0 - x) + abs(y0 - y),

@@ -27,8 +27,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from vlm_bench.catalog.world_catalog import environment
-from vlm_bench.sim.cameras import (
+from vlm_bench.rules.cameras import (
+    CLOSE_OVERHEAD_FOVY,
+    CLOSE_SIDE_ELEVATIONS,
+    CLOSE_SIDE_FOVYS,
     OVERHEAD_FOVY,
+)
+from vlm_bench.sim.cameras import (
     SIDE_MIN_ARROW,
     WALL_CLEARANCE,
     CameraView,
@@ -59,10 +64,7 @@ from vlm_bench.types.episode import Episode
 if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
     import mujoco
 
-CLOSE_OVERHEAD_FOVY = 15.0
 CLOSE_SIDE_AZIMUTH_STEP = 20.0  # deg, round the whole circle from the preferred azimuth
-CLOSE_SIDE_ELEVATIONS = (28.0, 40.0, 55.0)  # deg
-CLOSE_SIDE_FOVYS = (40.0, 55.0, 70.0, 85.0)  # deg
 HEADROOM = 1.25  # the geometric estimate may be this far above a rendered size
 
 Sizes = dict[str, dict[str, float]]

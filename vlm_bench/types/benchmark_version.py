@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from vlm_bench.errors import ConfigError
 
-BENCHMARK_VERSION = 2
+BENCHMARK_VERSION = 3
 """The benchmark version this release evaluates (the one place it is defined)."""
 
 FIRST_VERSION = 1

@@ -113,6 +113,16 @@ class PlanScores(Frozen):
     k: int = Field(ge=0, description="K: predicted steps, invalid ones included.")
     n: int = Field(ge=1, description="N: GT steps.")
     n_move: int = Field(ge=0, description="N_move: GT UAV steps.")
+    n_move_pred: int = Field(
+        default=0, ge=0, description="UAV-typed predicted steps (valid or not); 0 in old records."
+    )
+    s_loc_precision: float = Field(
+        default=0.0,
+        ge=0,
+        le=100,
+        description="S_loc's credits over max(N_move, n_move_pred): padding no longer pays; "
+        "S_loc when the GT has no move. Absent (0) in records from before version 3.",
+    )
     loc_credit: tuple[float, ...] = Field(default=(), description="ω of each GT UAV step.")
     m_obj: int = Field(ge=0, description="M_obj: predicted object references matching the GT.")
     k_obj: int = Field(ge=0, description="K_obj: wrong, hallucinated or invalid references.")

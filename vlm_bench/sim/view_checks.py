@@ -1,0 +1,106 @@
+"""Rendered checks of what the third-person views let a model read: table heights and labels.
+
+Both work on segmentation renders (:meth:`~vlm_bench.sim.render.SnapshotRenderer.render_segmentation`)
+of the scene's ``overhead`` and ``side`` cameras, as the model is shown them:
+
+* :func:`support_visibility`: whether each *height support* (a support under a task object, or
+  one a place step puts an object on) shows its top and its full height in a view: all eight
+  corners of its box project inside the image, and its seen pixels span at least
+  :data:`MIN_HEIGHT_SHARE` of the rows its box spans there (not hidden behind other things).
+* :func:`label_overlaps`: the set-of-marks tags (placed as :func:`~vlm_bench.sim.snapshot_render.label_tags`
+  and :func:`~vlm_bench.sim.labels.tag_layout` place them) that cover a task object's seen pixels.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from vlm_bench.catalog.world_catalog import object_kind
+from vlm_bench.sim.cameras import plan_references, task_objects
+from vlm_bench.sim.constants import DEFAULT_IMAGE_SIZE, THIRD_PERSON_CAMERAS
+from vlm_bench.sim.labels import project_points, tag_layout
+from vlm_bench.sim.objects.bounds import subtree_geoms
+from vlm_bench.sim.render import GeomIdImage, SnapshotRenderer
+from vlm_bench.sim.scene import Scene
+from vlm_bench.sim.snapshot_render import box_corners, label_tags
+from vlm_bench.types.episode import Episode
+
+MIN_HEIGHT_SHARE = 0.8
+"""Least share of a support's projected rows that its seen pixels must span."""
+
+
+def height_supports(episode: Episode) -> tuple[str, ...]:
+    """Ids of the supports whose height a plan's vertical moves depend on: every support under
+    a task object (down to the floor) and every support the plan names (a place destination)."""
+    by_id = {o.id: o for o in episode.objects}
+    wanted: list[str] = []
+    referenced = plan_references(episode)
+    for oid in task_objects(episode):
+        on = by_id[oid].on
+        while on in by_id:
+            if on not in wanted and object_kind(by_id[on].kind).support:
+                wanted.append(on)
+            on = by_id[on].on
+    for oid in referenced:
+        if oid in by_id and oid not in wanted and object_kind(by_id[oid].kind).support:
+            wanted.append(oid)
+    return tuple(o.id for o in episode.objects if o.id in wanted)
+
+
+def _renders(
+    scene: Scene, renderer: SnapshotRenderer, size: int, views: Sequence[str]
+) -> dict[str, GeomIdImage]:
+    return {view: renderer.render_segmentation(scene.model, scene.data, view, size) for view in views}
+
+
+def support_visibility(
+    scene: Scene,
+    renderer: SnapshotRenderer,
+    size: int = DEFAULT_IMAGE_SIZE,
+    views: Sequence[str] = THIRD_PERSON_CAMERAS,
+    segs: dict[str, GeomIdImage] | None = None,
+) -> dict[str, dict[str, bool]]:
+    """For each height support (:func:`height_supports`), whether each view shows its top and
+    full height (module doc)."""
+    segs = segs or _renders(scene, renderer, size, views)
+    by_id = {o.id: o for o in scene.episode.objects}
+    out: dict[str, dict[str, bool]] = {}
+    for sid in height_supports(scene.episode):
+        geoms = subtree_geoms(scene.model, sid)
+        out[sid] = {}
+        for view in views:
+            pix, inside = project_points(
+                scene.model, scene.data, view, box_corners(by_id[sid]), size, size
+            )
+            rows = np.nonzero(np.isin(segs[view], geoms).any(axis=1))[0]
+            span = float(pix[:, 1].max() - pix[:, 1].min()) if inside.all() else 0.0
+            seen = float(rows.max() - rows.min() + 1) if rows.size else 0.0
+            out[sid][view] = bool(inside.all() and seen >= MIN_HEIGHT_SHARE * span)
+    return out
+
+
+def label_overlaps(
+    scene: Scene,
+    renderer: SnapshotRenderer,
+    size: int = DEFAULT_IMAGE_SIZE,
+    views: Sequence[str] = THIRD_PERSON_CAMERAS,
+    segs: dict[str, GeomIdImage] | None = None,
+) -> list[tuple[str, str, str, int]]:
+    """``(view, tag text, task object, pixels)`` for every tag that covers seen pixels of a
+    task object (empty when no tag does)."""
+    segs = segs or _renders(scene, renderer, size, views)
+    objects = {oid: subtree_geoms(scene.model, oid) for oid in task_objects(scene.episode)}
+    out = []
+    for view in views:
+        tags, avoid = label_tags(scene, view, size)
+        for text, _, box in tag_layout((size, size), tags, avoid):
+            u0, v0 = max(0, int(box[0])), max(0, int(box[1]))
+            u1, v1 = min(size, int(np.ceil(box[2])) + 1), min(size, int(np.ceil(box[3])) + 1)
+            patch = segs[view][v0:v1, u0:u1]
+            for oid, geoms in objects.items():
+                covered = int(np.isin(patch, geoms).sum())
+                if covered:
+                    out.append((view, text, oid, covered))
+    return out
