@@ -107,6 +107,7 @@ def run(
     snapshot_cache: Path | bool | None = True,
     progress: bool = False,
     execution: ExecutionOptions | None = None,
+    protocol: str | None = None,
     **options: Any,
 ) -> RunResult:
     """Evaluate a model's plans on the benchmark, resuming the run folder if it exists.
@@ -125,9 +126,12 @@ def run(
             ``execute=False`` to skip plan execution, ``uav_noise=2.0`` for gusts,
             ``loop="closed", max_rounds=3`` to replan after failures,
             ``perturb="slip=0.3,bump=0.3"`` (or a ``PerturbConfig``), ...).
+        protocol: A stated protocol (``paper``, ``closed``; docs/protocols.md): fields not
+            given take its values; given selection fields may narrow its episodes.
 
     Returns:
-        The folder's records and summary; ``summary.md``/``summary.csv`` are written too.
+        The folder's records and summary; ``summary.md``/``summary.csv`` and
+        ``results.json`` are written too.
 
     Raises:
         ConfigError: Invalid options. RunLockedError / ConfigMismatchError: see the CLI docs.
@@ -145,6 +149,11 @@ def run(
         config = run_config(**options)
     elif options:
         raise ConfigError("give a RunConfig or keyword options, not both")
+    if protocol is not None:
+        from vlm_bench.types.protocol_match import with_protocol
+
+        given = set(options) if options else set(config.model_fields_set)
+        config = with_protocol(config, protocol, given)
     outcome = run_benchmark(
         config,
         run_dir_for(config, out, run_name),

@@ -38,6 +38,7 @@ from vlm_bench.cli.prompt_options import (
     prompt_fields,
     run_default,
 )
+from vlm_bench.cli.protocol_option import ProtocolOption, apply_protocol, protocol_line
 from vlm_bench.errors import ConfigError, option_error
 
 if TYPE_CHECKING:
@@ -124,6 +125,7 @@ def parse_instructions(text: str) -> tuple[InstructionVariant, ...]:
 def _print_summary(result: RunResult) -> None:
     from vlm_bench.report import summary_rich
     from vlm_bench.types.execution import FailureCode
+    from vlm_bench.types.protocol_match import manifest_protocol
 
     # Piped: no terminal width to respect, so the table is not wrapped or cut.
     shown = table_console(console)
@@ -137,6 +139,7 @@ def _print_summary(result: RunResult) -> None:
     if stats.executed:
         line += f", {stats.executed} plan(s) executed"
     console.print(line + ")", highlight=False, soft_wrap=True)
+    console.print(protocol_line(manifest_protocol(result.manifest)), highlight=False)
     unanswered = [r for r in result.records if not r.ok]
     if unanswered:
         first = unanswered[0]
@@ -240,6 +243,7 @@ def run(
     exec_backend: ExecBackend = "process",
     ray_address: RayAddress = None,
     exec_stall_s: ExecStall = None,
+    protocol: ProtocolOption = None,
 ) -> None:
     """Evaluate a model as a planner (and execute its plans); resumes the run folder."""
     from pydantic import ValidationError
@@ -280,6 +284,7 @@ def run(
         history=history,
         perturb=perturbations,
     )
+    config = apply_protocol(config, protocol)
     execution = execution_options(exec_workers, exec_backend, ray_address, exec_stall_s)
     run_dir = run_dir_for(config, out, run_name)
     try:

@@ -20,7 +20,7 @@ from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.loop_executions import LoopExecutions
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
-from vlm_bench.runner.selection import select_episodes
+from vlm_bench.runner.selection import run_protocol, select_episodes
 from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.storage import (
     RunStore,
@@ -66,6 +66,7 @@ def make_manifest(config: RunConfig, backend_name: str) -> Callable[[str], RunMa
             python=platform.python_version(),
             platform=machine(),
             created=utc_now(),
+            protocol=run_protocol(config),
         )
 
     return build

@@ -42,6 +42,7 @@ from vlm_bench.types.closed_loop import HistoryMode, LoopConfig, LoopMode, Pertu
 from vlm_bench.types.execution import ExecutorConfig
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
+from vlm_bench.types.protocol import ProtocolMark
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
@@ -320,6 +321,11 @@ class RunManifest(Frozen):
     python: str = Field(default="", description="Python version.")
     platform: str = Field(default="", description="OS and machine.")
     created: datetime = Field(description="When the run folder was created (UTC).")
+    protocol: ProtocolMark | None = Field(
+        default=None,
+        description="The run's stated protocol and its share of it (None: written before "
+        "protocols were recorded; vlm_bench.types.protocol_match.manifest_protocol derives it).",
+    )
 
     @model_validator(mode="before")
     @classmethod
