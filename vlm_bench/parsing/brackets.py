@@ -11,8 +11,6 @@ from dataclasses import dataclass
 
 MAX_RESCANS = 4  # how many times a region still open at the end is re-scanned for regions inside it
 MAX_RESCAN_CHARS = 200_000  # ... reading at most this many characters in all
-_OPEN = re.compile(r"<(?:think|thinking|reasoning)\s*>", re.I)
-_FENCE = re.compile(r"```[A-Za-z0-9_+-]*[ \t]*\n?(.*?)(?:```|\Z)", re.S)
 _OPEN = {"[": "]", "{": "}"}
 _CLOSE = {"]": "[", "}": "{"}
 _BRACKET_OR_QUOTE = re.compile(r"[\[\]{}\"']")
