@@ -87,6 +87,11 @@ def operational_args(model: str) -> frozenset[str]:
     return backend.Args.operational_fields() if backend is not None else frozenset()
 
 
+def backend_entry(name: str) -> BackendEntry:
+    """The registered backend ``name`` (built-in or plug-in); raises listing the valid names."""
+    return BACKENDS.get(name)
+
+
 def builtin_class(row: BuiltinBackend) -> type[Backend]:
     """The Backend subclass of a built-in (its module imported, nothing built)."""
     found: type[Backend] = getattr(import_module(f"vlm_bench.backends.{row.module}"), row.cls)

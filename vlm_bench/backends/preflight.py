@@ -16,6 +16,7 @@ from importlib.util import find_spec
 from vlm_bench.backends.backend import parse_args
 from vlm_bench.backends.backend_registry import (
     BACKENDS,
+    backend_entry,
     builtin_class,
     card_for,
     plugin_backend_class,
@@ -90,7 +91,7 @@ def check_backend(
     name, model_name = split_model(model)
     card = card_for(model)
     raw = {**(card.args_for(name) if card is not None else {}), **dict(args or {})}
-    entry = BACKENDS.get(name)
+    entry = backend_entry(name)
     row = entry.builtin
     if row is None:
         _check_plugin_args(name, raw)
