@@ -138,5 +138,5 @@ def card_backends() -> tuple[str, ...]:
 
 def model_string_help() -> str:
     """What ``--model`` takes, from the table (the CLI's help)."""
-    order = sorted(BUILTIN_BACKENDS, key=lambda b: b.runs == "weightless")
+    order = sorted(BUILTIN_BACKENDS, key=lambda b: (b.runs == "weightless", b.prefix))
     return ", ".join(b.selector for b in order) + ", a model card, or <plug-in>/<model>."
