@@ -1,4 +1,4 @@
-"""One registry type for every pluggable thing (backends, object builders, skills, scorers)."""
+"""One registry type for every pluggable thing: backends, object builders, skills' effect models."""
 
 from __future__ import annotations
 

@@ -39,6 +39,7 @@ class FakeServer:
         self.received: list[dict[str, Any]] = []
         self.fail_first = 0  # answer the first N calls with HTTP 500
         self.status = 500
+        self.error: dict[str, Any] = {"error": {"message": "boom", "type": "server"}}
         self.sleep_s = 0.0
         self.barrier: threading.Barrier | None = None  # hold each request until N are in flight
         self.calls = 0
@@ -73,7 +74,7 @@ class FakeServer:
                         self._reply(500, {"error": {"message": "not concurrent", "type": "x"}})
                         return
                 if call <= server.fail_first:
-                    self._reply(server.status, {"error": {"message": "boom", "type": "server"}})
+                    self._reply(server.status, server.error)
                     return
                 if server.raw is not None:
                     content_type, raw = server.raw
@@ -220,11 +221,32 @@ def test_exhausted_retries_are_recorded_not_raised(server: FakeServer) -> None:
     assert result.error is not None and "InternalServerError 500" in result.error
 
 
-def test_client_errors_are_not_retried(server: FakeServer) -> None:
-    server.fail_first, server.status = 100, 400
+PINNED = "Server is pinned to m; requested 'wrongname'"
+
+
+@pytest.mark.parametrize("status", [400, 404, 409, 422])
+@pytest.mark.parametrize(
+    "body", [{"error": {"message": PINNED, "type": "invalid_request"}}, {"detail": PINNED}]
+)
+def test_client_errors_keep_the_servers_reason_and_are_not_retried(
+    server: FakeServer, status: int, body: dict[str, Any]
+) -> None:
+    """The OpenAI API's error body and a FastAPI server's (``transformers serve``) alike."""
+    server.fail_first, server.status, server.error = 100, status, body
     backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "3", **FAST})
     [result] = backend.generate([_request("a")], GenerationConfig())
-    assert server.calls == 1 and result.error is not None and "400" in result.error
+    assert server.calls == 1 and result.error is not None
+    assert result.error.endswith(f" {status}: {PINNED}"), result.error
+
+
+@pytest.mark.parametrize("status", [408, 429, 503])
+def test_timeouts_rate_limits_and_server_errors_are_retried(
+    server: FakeServer, status: int
+) -> None:
+    server.fail_first, server.status = 2, status
+    backend = resolve_backend("openai/m", {"base_url": server.url, "retries": "3", **FAST})
+    [result] = backend.generate([_request("a")], GenerationConfig())
+    assert result.error is None and server.calls == 3
 
 
 def test_timeouts_are_recorded(server: FakeServer) -> None:

@@ -200,7 +200,7 @@ def test_a_model_that_fails_to_load_is_one_line_and_leaves_no_folder(
 def _hf_check(folder: Path) -> object:
     from vlm_bench.backends.preflight import BackendCheck
 
-    return BackendCheck("hf", str(folder), loads_model=False)
+    return BackendCheck("hf", str(folder))
 
 
 class _FailingBackend(Backend):

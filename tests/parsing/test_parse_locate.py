@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vlm_bench.parsing import extract, parse_plan
-from vlm_bench.parsing.extract import strip_think
 from vlm_bench.parsing.locate import MAX_SEARCH_CHARS
+from vlm_bench.parsing.wrappers import strip_think
 from vlm_bench.scoring import score_plan
 from vlm_bench.types.parse import ParseCode, ParseResult, Repair
 from vlm_bench.types.plan import ArmStep, Direction, UavStep

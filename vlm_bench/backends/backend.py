@@ -70,7 +70,10 @@ class Backend(ClosesOnExit, ABC):
 
     Subclasses implement :meth:`generate`. A backend never raises for a failed generation:
     server errors, timeouts and out-of-memory batches become ``GenerationResult.error``.
-    Exceptions are for configuration errors (bad args, missing extras, missing schema).
+    Exceptions are for configuration errors (bad args, missing extras, missing schema). A
+    backend whose one call answers one request (an HTTP API) subclasses
+    :class:`~vlm_bench.backends.request_backend.RequestBackend` instead and implements only
+    that call: retries, backoff and concurrency are its hooks, written once.
     """
 
     name: ClassVar[str] = "backend"

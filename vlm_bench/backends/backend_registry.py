@@ -23,6 +23,7 @@ from vlm_bench.backends.backend import Backend
 from vlm_bench.catalog.model_cards import model_cards
 from vlm_bench.errors import ConfigError
 from vlm_bench.registry import Registry
+from vlm_bench.types.backend_table import BUILTIN_BACKENDS, BuiltinBackend
 from vlm_bench.types.model_card import ModelCard
 
 ENTRY_POINT_GROUP = "vlm_bench.backends"
@@ -41,6 +42,8 @@ class BackendEntry:
     description: str
     plugin: Callable[[], object] | None = None
     """A plug-in's entry point loader (its target: a Backend subclass or a factory)."""
+    builtin: BuiltinBackend | None = None
+    """A built-in's row of the backend table (None for a plug-in)."""
 
 
 def _lazy(module: str, cls: str) -> BackendFactory:
@@ -54,23 +57,17 @@ def _lazy(module: str, cls: str) -> BackendFactory:
 
 
 BACKENDS: Registry[BackendEntry] = Registry("backend")
-_BUILTIN_SPECS = (
-    # name, module, class, selected by <name>/<model>, description
-    ("oracle", "builtin", "OracleBackend", False, "returns the GT plan (ceiling)"),
-    ("random", "builtin", "RandomBackend", False, "seeded random valid plans (floor)"),
-    ("blind", "blind_planner", "BlindBackend", False, "GT ARM steps, moves guessed (floor)"),
-    ("rules", "rules_planner", "RulesBackend", False, "plans from --scene-as-text (ceiling)"),
-    ("mock", "builtin", "MockBackend", False, "scripted outputs (-M file=... or -M text=...)"),
-    ("openai", "openai_backend", "OpenAIBackend", True, "OpenAI-compatible server"),
-    ("vllm", "vllm_backend", "VllmBackend", True, "offline vLLM engine"),
-    ("hf", "hf", "HfBackend", False, "transformers image-text-to-text (HF id or path)"),
-)
-for _name, _module, _cls, _takes_model, _doc in _BUILTIN_SPECS:
+for _row in BUILTIN_BACKENDS:
     BACKENDS.add(
-        _name, BackendEntry(_lazy(f"vlm_bench.backends.{_module}", _cls), _takes_model, _doc)
+        _row.name,
+        BackendEntry(
+            _lazy(f"vlm_bench.backends.{_row.module}", _row.cls),
+            _row.prefix,
+            _row.description,
+            builtin=_row,
+        ),
     )
 _BUILTINS = frozenset(BACKENDS.names())
-_BUILTIN_CLASSES = {name: (f"vlm_bench.backends.{m}", c) for name, m, c, _, _ in _BUILTIN_SPECS}
 _plugins_loaded = False
 
 
@@ -83,14 +80,22 @@ def operational_args(model: str) -> frozenset[str]:
     """
     try:
         name, _ = split_model(model)
-        if name in _BUILTIN_CLASSES:
-            module, cls = _BUILTIN_CLASSES[name]
-            backend: type[Backend] | None = getattr(import_module(module), cls)
-        else:
-            backend = plugin_backend_class(name)
+        row = BACKENDS.get(name).builtin
+        backend = builtin_class(row) if row is not None else plugin_backend_class(name)
     except ConfigError:
         return frozenset()
     return backend.Args.operational_fields() if backend is not None else frozenset()
+
+
+def backend_entry(name: str) -> BackendEntry:
+    """The registered backend ``name`` (built-in or plug-in); raises listing the valid names."""
+    return BACKENDS.get(name)
+
+
+def builtin_class(row: BuiltinBackend) -> type[Backend]:
+    """The Backend subclass of a built-in (its module imported, nothing built)."""
+    found: type[Backend] = getattr(import_module(f"vlm_bench.backends.{row.module}"), row.cls)
+    return found
 
 
 def plugin_backend_class(name: str) -> type[Backend] | None:
@@ -163,9 +168,15 @@ def _unknown_bare_name(model: str) -> ConfigError:
     close = difflib.get_close_matches(model.lower(), names, n=1, cutoff=0.6)
     hint = f"did you mean {close[0]!r}? " if close else ""
     return ConfigError(
-        f"unknown model {model!r}: not a backend, a model card or a local folder; {hint}give a "
-        f"HF id org/name, a local path, openai/<name>, vllm/<id>, or one of: {', '.join(names)}"
+        f"unknown model {model!r}: not a backend, a model card or a local folder; {hint}give "
+        f"{_selectors()}, or one of: {', '.join(names)}"
     )
+
+
+def _selectors() -> str:
+    """The model strings of the backends selected by a prefix, and of ``hf``."""
+    rows = [row for row in BUILTIN_BACKENDS if row.prefix or row.name == "hf"]
+    return ", ".join(row.selector for row in sorted(rows, key=lambda row: row.prefix))
 
 
 def split_model(model: str) -> tuple[str, str]:
@@ -179,8 +190,8 @@ def split_model(model: str) -> tuple[str, str]:
         return model, ""
     if not model:
         raise ConfigError(
-            "empty model string; give a HF id, a local path, openai/<name>, "
-            f"vllm/<id>, or one of: {', '.join(sorted(_BUILTINS - {'hf'}))}"
+            f"empty model string; give {_selectors()}, or one of: "
+            f"{', '.join(sorted(_BUILTINS - {'hf'}))}"
         )
     card = card_for(model)
     prefix, sep, rest = model.partition("/")
@@ -197,8 +208,9 @@ def resolve_backend(model: str, args: Mapping[str, str] | None = None) -> Backen
     """Build the backend a model string selects, with its ``-M key=value`` arguments.
 
     Args:
-        model: ``oracle``, ``random``, ``mock``, ``openai/<name>``, ``vllm/<id>``,
-            ``<plugin>/<model>``, a model card's name, or a HF id / local path (``hf``).
+        model: A built-in's name or ``<name>/<model>``, ``<plugin>/<model>``, a model card's
+            name, or a HF id / local path (``hf``); see
+            :func:`~vlm_bench.types.backend_table.model_string_help`.
         args: Raw ``-M`` strings; each backend validates them against its own args model. For a
             model card they are added to the card's own (given keys win).
 

@@ -13,7 +13,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from vlm_bench.errors import ConfigError, VlmBenchError
+from vlm_bench.backends.request_backend import ServerUnreachableError
+from vlm_bench.errors import ConfigError
 
 PROBE_TOKEN = "vlm-bench-probe-7f3a"
 PROBE_SCHEMA: dict[str, Any] = {
@@ -23,10 +24,6 @@ PROBE_SCHEMA: dict[str, Any] = {
     "additionalProperties": False,
 }
 """An object root with every property required and no others: accepted by strict servers."""
-
-
-class ServerUnreachableError(VlmBenchError):
-    """The OpenAI-compatible server does not answer (down, wrong URL, refused connection)."""
 
 
 def server_url(client: Any) -> str:

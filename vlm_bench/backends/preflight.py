@@ -11,28 +11,19 @@ import difflib
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from importlib import import_module
 from importlib.util import find_spec
 
-from vlm_bench.backends.backend import Backend, parse_args
+from vlm_bench.backends.backend import parse_args
 from vlm_bench.backends.backend_registry import (
     BACKENDS,
+    backend_entry,
+    builtin_class,
     card_for,
     plugin_backend_class,
     split_model,
 )
 from vlm_bench.backends.model_source import check_model_source
 from vlm_bench.errors import ConfigError, MissingExtraError
-
-WEIGHTLESS = frozenset({"oracle", "random", "blind", "rules", "mock"})
-"""Built-ins cheap enough to build outright as their check (they read at most a small file)."""
-
-_MODEL_BACKENDS: dict[str, tuple[str, str, tuple[str, ...], str]] = {
-    # backend: (module under vlm_bench.backends, class, what its constructor imports, extra)
-    "hf": ("hf", "HfBackend", ("torch", "transformers"), "hf"),
-    "vllm": ("vllm_backend", "VllmBackend", ("vllm",), "vllm"),
-    "openai": ("openai_backend", "OpenAIBackend", ("openai",), "openai"),
-}
 
 
 @dataclass(frozen=True)
@@ -43,15 +34,8 @@ class BackendCheck:
     """The backend that serves it (``hf``, ``openai``, ``oracle``, a plug-in, ...)."""
     model: str
     """The model name that backend gets (a hub id, a path, a served name, or empty)."""
-    loads_model: bool
-    """A model runs in this process (``hf``, ``vllm`` and plug-ins): torch and friends load."""
     sees_images: bool = True
     """Its answers may depend on images (:attr:`.Backend.sees_images`)."""
-
-
-def loads_model_in_process(backend: str) -> bool:
-    """True unless ``backend`` is a weightless built-in or a client of a server (``openai``)."""
-    return backend not in WEIGHTLESS and backend != "openai"
 
 
 def did_you_mean(model: str) -> str:
@@ -82,27 +66,23 @@ def _check_plugin_args(name: str, raw: Mapping[str, str]) -> None:
         _require_finite(name, parse_args(cls.name, cls.Args, raw))
 
 
-def _backend_class(name: str) -> type[Backend]:
-    module, cls, _, _ = _MODEL_BACKENDS[name]
-    found: type[Backend] = getattr(import_module(f"vlm_bench.backends.{module}"), cls)
-    return found
-
-
 def check_backend(
     model: str, args: Mapping[str, str] | None = None, *, constrained: bool = False
 ) -> BackendCheck:
     """Check everything about a backend that needs no model, no server and no simulator.
 
-    Builds the weightless built-ins outright; for ``hf``, ``vllm`` and ``openai`` checks that
-    the extra is installed, validates the ``-M`` arguments (finite numbers only) and, for
-    ``hf``/``vllm``, that the model is a local folder or a Hugging Face id the cache or the
-    hub knows. A plug-in's module is imported and, where it is a Backend subclass, its ``-M``
-    arguments validated against its ``Args`` (a factory function's are checked when it builds).
+    What it checks of a built-in, its row of the backend table says
+    (:data:`~vlm_bench.types.backend_table.BUILTIN_BACKENDS`): a weightless one is built
+    outright; for the others, that the modules it imports (and those constrained decoding
+    needs) are installed, the ``-M`` arguments (finite numbers only) and, where the row asks,
+    that the model is a local folder or a Hugging Face id the cache or the hub knows. A
+    plug-in's module is imported and, where it is a Backend subclass, its ``-M`` arguments
+    validated against its ``Args`` (a factory function's are checked when it builds).
 
     Args:
         model: The model string (``--model``).
         args: Raw ``-M key=value`` strings.
-        constrained: The run decodes under a JSON Schema (``hf`` then needs xgrammar).
+        constrained: The run decodes under a JSON Schema.
 
     Raises:
         ConfigError: An unknown model, a bad argument, a missing file (one line).
@@ -111,28 +91,30 @@ def check_backend(
     name, model_name = split_model(model)
     card = card_for(model)
     raw = {**(card.args_for(name) if card is not None else {}), **dict(args or {})}
-    if name in WEIGHTLESS:
-        built = BACKENDS.get(name).factory(model_name, raw)
-        built.close()
-        return BackendCheck(name, model_name, loads_model=False, sees_images=built.sees_images)
-    if name not in _MODEL_BACKENDS:
+    entry = backend_entry(name)
+    row = entry.builtin
+    if row is None:
         _check_plugin_args(name, raw)
-        return BackendCheck(name, model_name, loads_model_in_process(name))
-    _, _, requires, extra = _MODEL_BACKENDS[name]
-    if any(find_spec(module) is None for module in requires):
-        raise MissingExtraError(" and ".join(requires), extra)
-    if constrained and name == "hf" and find_spec("xgrammar") is None:
-        raise MissingExtraError("xgrammar", "constrained")
-    cls = _backend_class(name)
+        return BackendCheck(name, model_name)
+    if row.runs == "weightless":
+        built = entry.factory(model_name, raw)
+        built.close()
+        return BackendCheck(name, model_name, sees_images=built.sees_images)
+    if any(find_spec(module) is None for module in row.requires):
+        raise MissingExtraError(" and ".join(row.requires), row.extra or name)
+    needed = row.constrained_requires if constrained else ()
+    if any(find_spec(module) is None for module in needed):
+        raise MissingExtraError(" and ".join(needed), "constrained")
+    cls = builtin_class(row)
     parsed = parse_args(cls.name, cls.Args, raw)
     _require_finite(name, parsed)
     if not model_name:
         raise ConfigError(f"backend {name!r} needs a model: --model {name}/<model>")
-    if name != "openai":
+    if row.model_check != "none":
         check_model_source(
             model_name,
             getattr(parsed, "revision", None),
             hint=did_you_mean(model),
-            needs_config=name == "hf",
+            needs_config=row.model_check == "local_or_hub_config",
         )
-    return BackendCheck(name, model_name, loads_model_in_process(name))
+    return BackendCheck(name, model_name, sees_images=cls.sees_images)

@@ -1,4 +1,5 @@
-"""The skill library (``skills/*.json``)."""
+"""The skill library (``skills/*.json``): data only; each skill's effect model is registered in
+:mod:`vlm_bench.rules.effects` under the name its file gives."""
 
 from __future__ import annotations
 

@@ -24,10 +24,12 @@ def _listing() -> None:
     backends = Table(title="Backends", title_justify="left")
     for column in ("backend", "model string", "what"):
         backends.add_column(column)
-    for name in BACKENDS.names():
+    for name in BACKENDS.names():  # the built-ins' table, then the plug-ins
         entry = BACKENDS.get(name)
-        selector = "HF id or local path" if name == "hf" else name
-        selector += "/<model>" if entry.takes_model else ""
+        if entry.builtin is not None:
+            selector = entry.builtin.selector
+        else:
+            selector = name + ("/<model>" if entry.takes_model else "")
         backends.add_row(name, selector, entry.description)
     cards = Table(
         title="Model cards (--model <card>; vlm-bench models <card>)", title_justify="left"

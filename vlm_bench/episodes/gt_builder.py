@@ -5,7 +5,8 @@ horizontal move in the quantised body-frame bearing of the step's working point 
 of reach, and ``up`` (before it) or ``down`` (after it) when the working altitude differs by
 more than a threshold. The prompt states the same rule from the same code. The UAV's pose is
 tracked with ideal kinematics (the executor's stopping rule) and the scene's state is tracked
-through the skills' effects (picked objects travel, drawers open), so later steps are judged
+through the skills' effect models (:mod:`vlm_bench.rules.effects`, the ``rules`` planner's own:
+picked objects travel, drawers open), so later steps are judged
 from where things really are. Any decision that lies within a safety margin of its threshold,
 and any leg that would sweep the UAV or its stowed arm through an obstacle, raises
 :class:`AmbiguousGeometry`, and the caller resamples the seed: no GT depends on a judgement the
@@ -24,13 +25,13 @@ from vlm_bench.episodes.plane_geometry import rect_corners, segment_rect_distanc
 from vlm_bench.rules import (
     DRAWER_FLOOR_BELOW_HANDLE,
     DRAWER_INSIDE_BEHIND_HANDLE,
-    DRAWER_PULL,
     UavState,
     WorkPoint,
     approach_moves,
     rotate_xy,
 )
 from vlm_bench.rules.approach import ambiguity
+from vlm_bench.rules.effects import Xyz, effect_of
 from vlm_bench.rules.work import rest_height
 from vlm_bench.types.episode import EpisodeObject, PartRef, UavPose
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
@@ -106,14 +107,14 @@ class GroundTruthBuilder:
         return Reference(bx, by, bz + kind.size[2] / 2, self.geometry.standoff_horizontal)
 
     def _step_ref(self, state: _State, obj_id: str, skill: str) -> Reference:
-        """Reference of an ARM step: a place approaches where the held object will rest (the
-        destination's top, not its box centre); every other skill its object's reference."""
-        ref = self._ref(state, obj_id)
-        if skill == "place" and state.held is not None and state.held in self.objects:
-            tx, ty, tz = self._top_for(state, obj_id)
-            half = object_kind(self.objects[state.held].kind).size[2] / 2
-            ref = Reference(tx, ty, tz + half, ref.standoff)
-        return ref
+        """Reference of an ARM step: where its skill's effect model says it works (a place: where
+        the held object will rest, not the destination's centre)."""
+        point = effect_of(skill).work_point(
+            _Planning(self, state), ArmStep(object=obj_id, skill=skill)
+        )
+        if point is None:
+            raise KeyError(obj_id)
+        return Reference(point.x, point.y, point.z, point.standoff)
 
     def step_reference(
         self,
@@ -226,25 +227,6 @@ class GroundTruthBuilder:
             steps.append((UavStep(direction=leg.direction), _pose(state)))
         return steps
 
-    # ---- skill effects ----------------------------------------------------------------
-    def _apply(self, state: _State, step: ArmStepSpec) -> None:
-        if step.skill == "pick":
-            state.held = step.object
-        elif step.skill == "place" and state.held is not None:
-            state.bottoms[state.held] = self._top_for(state, step.object)
-            state.held = None
-        elif step.skill == "pull" and step.object in self.parts:
-            state.openings[step.object] = DRAWER_PULL
-        elif step.skill == "close" and step.object in self.parts:
-            state.openings[step.object] = 0.0
-        elif step.skill == "push":
-            if step.target is not None:
-                tx, ty, _ = self._top_for(state, step.target)
-                bx, by, bz = state.bottoms[step.object]
-                state.bottoms[step.object] = ((bx + tx) / 2, (by + ty) / 2, bz)
-            else:
-                state.gone.add(step.object)
-
     def _initial_state(self, start: UavPose) -> _State:
         """Scene state at the episode start: objects where placed, drawers as initialised."""
         return _State(
@@ -285,9 +267,10 @@ class GroundTruthBuilder:
             for move, pose in self._approach(state, ref, spec.object):
                 plan.append(move)
                 poses.append(pose)
-            plan.append(ArmStep(object=spec.object, skill=spec.skill, target=spec.target))
+            step = ArmStep(object=spec.object, skill=spec.skill, target=spec.target)
+            plan.append(step)
             poses.append(_pose(state))
-            self._apply(state, spec)
+            effect_of(spec.skill).apply(_Planning(self, state), step)
         return plan, poses
 
 
@@ -302,3 +285,50 @@ def _approaches(
 
 def _pose(state: _State) -> UavPose:
     return UavPose(pos=(state.uav_xy[0], state.uav_xy[1], state.uav_z), yaw_deg=state.yaw)
+
+
+class _Planning:
+    """The GT's state seen by the skills' effect models (world frame; see
+    :class:`vlm_bench.rules.effects.PlanningState`)."""
+
+    def __init__(self, builder: GroundTruthBuilder, state: _State) -> None:
+        self.builder, self.state = builder, state
+
+    @property
+    def held(self) -> str | None:
+        return self.state.held
+
+    def hold(self, item: str | None) -> None:
+        self.state.held = item
+
+    def _knows(self, item: str) -> bool:
+        return item in self.builder.objects or item in self.builder.parts
+
+    def reference(self, item: str) -> WorkPoint | None:
+        if not self._knows(item):
+            return None
+        ref = self.builder._ref(self.state, item)
+        return WorkPoint(ref.x, ref.y, ref.z, ref.standoff)
+
+    def height(self, item: str) -> float | None:
+        obj = self.builder.objects.get(item)
+        return None if obj is None else object_kind(obj.kind).size[2]
+
+    def rest_on(self, item: str) -> Xyz | None:
+        return self.builder._top_for(self.state, item) if self._knows(item) else None
+
+    def bottom(self, item: str) -> Xyz | None:
+        return self.state.bottoms.get(item)
+
+    def set_bottom(self, item: str, bottom: Xyz) -> None:
+        self.state.bottoms[item] = bottom
+
+    def is_drawer(self, item: str) -> bool:
+        spec = self.builder._part_specs.get(item)
+        return spec is not None and spec[0].kind == "drawer"
+
+    def set_opening(self, item: str, opening: float) -> None:
+        self.state.openings[item] = opening
+
+    def remove(self, item: str) -> None:
+        self.state.gone.add(item)

@@ -1,14 +1,16 @@
 """Deterministic repair: from raw model text to the JSON values that may hold a plan.
 
-Order: strip reasoning blocks, take the last code fence that holds JSON, then collect the
-candidate values of the remaining text (:func:`candidates`):
+Order: strip reasoning blocks, take the last code fence that holds JSON
+(:mod:`~vlm_bench.parsing.wrappers`), then collect the candidate values of the remaining text
+(:func:`candidates`):
 
 * every strict JSON array/object that starts at a ``[`` or ``{`` anywhere in the text, decoded
   with :meth:`json.JSONDecoder.raw_decode` (so a stray bracket in the prose before the plan
   cannot hide it);
 * every bracketed region that is not strict JSON, found by a lenient, string-aware bracket
-  matcher (the outermost closed regions, also inside a region still open at the end, and that
-  region), loaded with json-repair (a closed region too long for it: as a Python literal).
+  matcher (:mod:`~vlm_bench.parsing.brackets`: the outermost closed regions, also inside a
+  region still open at the end, and that region), loaded with json-repair (a closed region too
+  long for it: as a Python literal).
 
 The work is bounded so that parsing stays linear in the length of the output (the ``MAX_``
 constants below); outputs of ordinary size (under 20 kB) never reach the bounds.
@@ -28,30 +30,18 @@ from typing import Any
 
 import json_repair
 
+from vlm_bench.parsing.brackets import Span, scan_spans
 from vlm_bench.types.parse import Repair
 
 MAX_REPAIRS = 64  # json-repair runs on at most this many spans (the last ones) per text
 MAX_REPAIR_CHARS = 100_000  # ... and is handed at most this many characters in all per text
 MAX_LITERAL_CHARS = 2_000_000  # longer closed spans: loaded as Python literals, this many chars
 MAX_DEPTH = 32  # plans are 2–3 levels deep; deeper spans are not parsed (recursion limits)
-MAX_RESCANS = 4  # how many times a region still open at the end is re-scanned for regions inside it
-MAX_RESCAN_CHARS = 200_000  # ... reading at most this many characters in all
 _DECODE_BUDGET = 4  # failed strict decodes read at most this many times the text (+ 64 kB)
 _ATTEMPT_COST = 32  # what one failed decode costs beyond the characters it read
 _WINDOW = 256  # strict decoding reads a window this long first, then 4x longer ones
 _CUT_MARGIN = 16  # a decode error this close to the window's end may be the cut, not the JSON
 
-_THINK_TAG = re.compile(r"<(/?)(think|thinking|reasoning)\s*>", re.I)
-_THINK_CLOSE = re.compile(r"</(?:think|thinking|reasoning)\s*>", re.I)
-_THINK_OPEN = re.compile(r"<(?:think|thinking|reasoning)\s*>", re.I)
-_FENCE = re.compile(r"```[A-Za-z0-9_+-]*[ \t]*\n?(.*?)(?:```|\Z)", re.S)
-_OPEN = {"[": "]", "{": "}"}
-_CLOSE = {"]": "[", "}": "{"}
-_BRACKET_OR_QUOTE = re.compile(r"[\[\]{}\"']")
-_STRING_REST = {
-    '"': re.compile(r'[^"\\]*(?:\\.[^"\\]*)*"', re.S),
-    "'": re.compile(r"[^'\\]*(?:\\.[^'\\]*)*'", re.S),
-}
 # Python strings (single- or double-quoted, one line), constants and trailing commas, for
 # :func:`_literal`.
 _PY_TOKEN = re.compile(
@@ -81,143 +71,6 @@ def strict_loads(text: str) -> tuple[Any, bool]:
         return json.loads(text, parse_constant=_reject_constant, parse_int=json_int), True
     except (ValueError, RecursionError):
         return None, False
-
-
-def _drop_closed_blocks(text: str) -> str:
-    """Remove ``<think>…</think>`` blocks (and the other names), leftmost first.
-
-    A block runs from an opening tag to the first closing tag of the same name after it, as
-    the regex ``<(think|…)\\s*>.*?</\\1\\s*>`` would match, but in linear time (that regex
-    rescans the rest of the text from every unclosed opening tag).
-    """
-    tags = list(_THINK_TAG.finditer(text))
-    closes: dict[str, list[int]] = {}
-    for k, tag in enumerate(tags):
-        if tag.group(1):
-            closes.setdefault(tag.group(2).lower(), []).append(k)
-    out: list[str] = []
-    pos = 0
-    for k, tag in enumerate(tags):
-        if tag.group(1) or tag.start() < pos:
-            continue
-        after = closes.get(tag.group(2).lower(), [])
-        j = bisect_right(after, k)
-        if j < len(after):
-            out.append(text[pos : tag.start()])
-            pos = tags[after[j]].end()
-    out.append(text[pos:])
-    return "".join(out)
-
-
-def strip_think(text: str) -> str:
-    """Remove reasoning blocks; an unclosed one runs to the end, a lone closing tag ends one."""
-    text = _drop_closed_blocks(text)
-    closes = list(_THINK_CLOSE.finditer(text))
-    if closes:  # the opening tag was in the prompt (chat templates do this)
-        text = text[closes[-1].end() :]
-    opened = _THINK_OPEN.search(text)
-    return text[: opened.start()] if opened else text
-
-
-def fenced_json(text: str) -> str | None:
-    """Content of the last Markdown code fence that holds a bracket, if any."""
-    bodies = [m.group(1) for m in _FENCE.finditer(text) if "[" in m.group(1) or "{" in m.group(1)]
-    return bodies[-1] if bodies else None
-
-
-@dataclass(frozen=True)
-class Span:
-    """A bracketed region of the text."""
-
-    start: int
-    end: int
-    closed: bool
-    depth: int
-    nested: bool = False
-    """Lies inside the span of another candidate (lower priority for lone step objects)."""
-
-
-def _prev_char(text: str, i: int, lo: int) -> str:
-    """The last non-space character of ``text[lo:i]`` ("" when there is none)."""
-    j = i - 1
-    while j >= lo and text[j].isspace():
-        j -= 1
-    return text[j] if j >= lo else ""
-
-
-def _scan(text: str, offset: int) -> tuple[list[Span], list[tuple[int, int]]]:
-    """One pass from ``offset``: the outermost closed regions, and the still-open brackets.
-
-    String-aware and lenient on mismatches: a closer pops the stack down to its opener, a
-    closer without one is ignored. Closed regions inside a bracket that never closes count as
-    outermost (so a stray ``[`` in the prose does not swallow the plan after it). Linear: the
-    pass visits brackets and quotes only. The open brackets come as (start, depth), outermost
-    first.
-    """
-    starts: list[int] = []  # the open brackets, innermost last
-    depths: list[int] = []  # the nesting depth inside each so far (1: nothing inside)
-    marks: list[int] = []  # len(closed) when each opened
-    open_count = {"[": 0, "{": 0}
-    closed: list[Span] = []
-    resume = offset
-    for match in _BRACKET_OR_QUOTE.finditer(text, offset):
-        i = match.start()
-        if i < resume:  # inside a string
-            continue
-        ch = text[i]
-        if ch in _OPEN:
-            starts.append(i)
-            depths.append(1)
-            marks.append(len(closed))
-            open_count[ch] += 1
-        elif ch in _CLOSE:
-            if open_count[_CLOSE[ch]]:
-                while True:
-                    start, depth, mark = starts.pop(), depths.pop(), marks.pop()
-                    open_count[text[start]] -= 1
-                    if depths and depths[-1] <= depth:
-                        depths[-1] = depth + 1
-                    if text[start] == _CLOSE[ch]:
-                        break
-                del closed[mark:]  # regions inside this one are not outermost
-                closed.append(Span(start, i + 1, True, depth))
-        elif starts and (ch == '"' or _prev_char(text, i, offset) in "[{,:"):
-            # Strings count inside brackets only; a single quote opens one only where a value
-            # or key starts.
-            rest = _STRING_REST[ch].match(text, i + 1)
-            if rest is None:  # unterminated: the text ends inside the string
-                break
-            resume = rest.end()
-    for k in range(len(depths) - 1, 0, -1):
-        depths[k - 1] = max(depths[k - 1], depths[k] + 1)
-    return closed, list(zip(starts, depths, strict=True))
-
-
-def scan_spans(text: str) -> tuple[list[Span], int | None]:
-    """Bracketed regions of ``text`` in text order, and where the last bracket still open at
-    the end of the text opened (None when the text does not end inside a bracket).
-
-    The outermost closed regions (see :func:`_scan`) and the outermost region still open at
-    the end, which runs to the end of the text. That one is also re-scanned from just after
-    its bracket (strings read afresh from there) for the regions inside it, at most
-    :data:`MAX_RESCANS` times and over :data:`MAX_RESCAN_CHARS` characters in all.
-    """
-    closed, still_open = _scan(text, 0)
-    last_open = still_open[-1][0] if still_open else None
-    spans = {(sp.start, sp.end): sp for sp in closed}
-    budget = MAX_RESCAN_CHARS
-    for rescan in range(MAX_RESCANS + 1):
-        if not still_open:
-            break
-        start, depth = still_open[0]
-        spans[start, len(text)] = Span(start, len(text), False, depth)
-        budget -= len(text) - start - 1
-        if rescan == MAX_RESCANS or budget < 0:
-            break
-        closed, still_open = _scan(text, start + 1)
-        for sp in closed:
-            spans.setdefault((sp.start, sp.end), sp)
-    return sorted(spans.values(), key=lambda sp: (sp.start, -sp.end)), last_open
 
 
 def _depth(value: Any, limit: int) -> int:

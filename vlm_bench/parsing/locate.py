@@ -30,8 +30,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from vlm_bench.parsing.extract import Candidate, candidates, fenced_json, strict_loads, strip_think
+from vlm_bench.parsing.extract import Candidate, candidates, strict_loads
 from vlm_bench.parsing.vocab import KEY_ALIASES, token
+from vlm_bench.parsing.wrappers import fenced_json, strip_think
 from vlm_bench.types.parse import ParseCode, Repair
 
 # Keys under which models nest the plan array (compared as tokens).

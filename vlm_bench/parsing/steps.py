@@ -12,6 +12,8 @@ Rules (documented choices):
   (``fly``, ``move``) or the step is invalid (``unknown_skill``).
 * Fields read are the union of the agent's skills' fields (as in the schema); required-ness is
   that of the resolved skill. String values ``""``, ``none``, ``null``, ``n/a`` mean absent.
+  Every field a skill declares is kept: a skill declares only fields a plan step carries
+  (:data:`~vlm_bench.types.skill.STEP_FIELDS`, checked when the skill file loads).
 * An invalid step keeps whatever it resolved (tasktype, direction, skill, object, target) for
   the error taxonomy; scoring never credits it, and its object references count against S_obj.
   A valid UAV step carries no object references, even if the model wrote some.
@@ -27,7 +29,7 @@ from vlm_bench.parsing.vocab import KEY_ALIASES, SceneIds, Vocabulary, token
 from vlm_bench.types.base import utf8_text
 from vlm_bench.types.parse import ParseCode, ParsedStep
 from vlm_bench.types.plan import Direction
-from vlm_bench.types.skill import SkillField, SkillSpec
+from vlm_bench.types.skill import STEP_FIELDS, SkillField, SkillSpec
 
 _DIRECTIONS = {d.value: d for d in Direction}
 _NULLS = frozenset({"", "none", "null", "na", "nil"})
@@ -177,15 +179,14 @@ def normalise_step(index: int, raw: Any, vocab: Vocabulary, scene: SceneIds) -> 
         for name in vocab.object_fields:
             if name not in values:
                 values[name] = reader.reference(name, required=False)
-    direction = values.get("direction")
+    kept = {name: values.get(name) for fields in STEP_FIELDS.values() for name in fields}
+    direction = kept.pop("direction")
     return ParsedStep(
         index=index,
         tasktype="UAV" if agent == "UAV" else "ARM" if agent == "ARM" else None,
         direction=_DIRECTIONS.get(direction) if isinstance(direction, str) else None,
         skill=spec.name if spec is not None else None,
-        object=values.get("object"),
-        target=values.get("target"),
-        distance=values.get("distance"),
+        **kept,
         valid=reader.valid and agent is not None,
         errors=tuple(dict.fromkeys(reader.errors)),
         raw=json_safe(raw),

@@ -60,6 +60,7 @@ def skill_rows() -> list[dict[str, Any]]:
 
 @cache
 def skills_digest() -> str:
-    """sha256 of the skill library's content (hashed into every prompt)."""
-    data = [s.model_dump(mode="json") for s in skills().values()]
+    """sha256 of the skill library's content (hashed into every prompt), less each skill's
+    effect model: that shapes the plans planners write, not the prompt or how it is parsed."""
+    data = [s.model_dump(mode="json", exclude={"effect"}) for s in skills().values()]
     return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()

@@ -5,7 +5,8 @@ steps an instruction asks for) writes by following the prompt: the ``rules`` pla
 few-shot examples derive their UAV moves here, with the same :func:`approach_moves` the GT
 builder uses. The scene is tracked as the prompt says it changes: a picked object travels with
 the gripper, a placed one rests where it was placed, a pulled drawer is ``DRAWER_PULL`` open
-and a closed one shut (its handle and inside move with it).
+and a closed one shut (its handle and inside move with it): each skill's effect model
+(:mod:`vlm_bench.rules.effects`), the GT builder's own.
 """
 
 from __future__ import annotations
@@ -14,12 +15,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from vlm_bench.rules.approach import Leg, UavState, WorkPoint, approach_moves
+from vlm_bench.rules.effects import Xyz, effect_of
 from vlm_bench.rules.scene_text import SceneEntry
-from vlm_bench.rules.work import DRAWER_PULL
 from vlm_bench.types.geometry import APPROACH, ApproachGeometry
 from vlm_bench.types.plan import ArmStep, UavStep
-
-Xyz = tuple[float, float, float]
 
 
 def _xyz(body: Sequence[float]) -> Xyz:
@@ -42,50 +41,77 @@ class _Thing:
             self.rest = (self.rest[0] + dx, self.rest[1] + dy, self.rest[2] + dz)
 
 
-def _things(entries: Sequence[SceneEntry]) -> dict[str, _Thing]:
-    return {
-        e.id: _Thing(
-            point=_xyz(e.point),
-            rest=None if e.rest is None else _xyz(e.rest),
-            tall=e.tall or 0.0,
-            standoff=e.standoff,
-            opening=e.opening or 0.0,
-            pull=None if e.pull is None else (e.pull[1], -e.pull[0]),
-        )
-        for e in entries
-    }
+class SceneState:
+    """The scene as the scene text gives it (planar frame: x forward, y left, z up, from the
+    UAV's start), changed by the skills' effect models (:mod:`vlm_bench.rules.effects`)."""
 
+    def __init__(
+        self, entries: Sequence[SceneEntry], geo: ApproachGeometry, held: str | None = None
+    ) -> None:
+        self.geo = geo
+        self._held = held
+        self.things = {
+            e.id: _Thing(
+                point=_xyz(e.point),
+                rest=None if e.rest is None else _xyz(e.rest),
+                tall=e.tall or 0.0,
+                standoff=e.standoff,
+                opening=e.opening or 0.0,
+                pull=None if e.pull is None else (e.pull[1], -e.pull[0]),
+            )
+            for e in entries
+        }
+        self.removed: set[str] = set()
 
-def _work_point(
-    things: dict[str, _Thing], step: ArmStep, held: str | None, geo: ApproachGeometry
-) -> WorkPoint | None:
-    thing = things.get(step.object)
-    if thing is None:
-        return None
-    standoff = thing.standoff if thing.standoff is not None else geo.standoff_horizontal
-    if step.skill == "place" and held in things and thing.rest is not None:
-        rx, ry, rz = thing.rest
-        return WorkPoint(rx, ry, rz + things[held].tall / 2, standoff)
-    return WorkPoint(*thing.point, standoff)
+    @property
+    def held(self) -> str | None:
+        """What the gripper holds."""
+        return self._held
 
+    def hold(self, item: str | None) -> None:
+        self._held = item
 
-def _apply(things: dict[str, _Thing], step: ArmStep, held: str | None) -> str | None:
-    """The scene after ``step``; returns what the gripper holds."""
-    thing = things.get(step.object)
-    if step.skill == "pick":
-        return step.object
-    if step.skill == "place" and held in things and thing is not None and thing.rest is not None:
-        moved = things[held]
-        rx, ry, rz = thing.rest
-        x, y, z = moved.point
-        moved.shift(rx - x, ry - y, rz + moved.tall / 2 - z)
-        return None
-    if step.skill in ("pull", "close") and thing is not None and thing.pull is not None:
-        new = DRAWER_PULL if step.skill == "pull" else 0.0
-        d = new - thing.opening
-        thing.shift(thing.pull[0] * d, thing.pull[1] * d, 0.0)
-        thing.opening = new
-    return held
+    def reference(self, item: str) -> WorkPoint | None:
+        thing = self.things.get(item)
+        if thing is None:
+            return None
+        standoff = thing.standoff if thing.standoff is not None else self.geo.standoff_horizontal
+        return WorkPoint(*thing.point, standoff)
+
+    def height(self, item: str) -> float | None:
+        thing = self.things.get(item)
+        return None if thing is None else thing.tall
+
+    def rest_on(self, item: str) -> Xyz | None:
+        thing = self.things.get(item)
+        return None if thing is None else thing.rest
+
+    def bottom(self, item: str) -> Xyz | None:
+        thing = self.things.get(item)
+        if thing is None:
+            return None
+        x, y, z = thing.point
+        return x, y, z - thing.tall / 2
+
+    def set_bottom(self, item: str, bottom: Xyz) -> None:
+        thing = self.things.get(item)
+        if thing is not None:
+            x, y, z = thing.point
+            thing.shift(bottom[0] - x, bottom[1] - y, bottom[2] + thing.tall / 2 - z)
+
+    def is_drawer(self, item: str) -> bool:
+        thing = self.things.get(item)
+        return thing is not None and thing.pull is not None
+
+    def set_opening(self, item: str, opening: float) -> None:
+        thing = self.things[item]
+        if thing.pull is not None:
+            d = opening - thing.opening
+            thing.shift(thing.pull[0] * d, thing.pull[1] * d, 0.0)
+        thing.opening = opening
+
+    def remove(self, item: str) -> None:
+        self.removed.add(item)
 
 
 @dataclass(frozen=True)
@@ -108,16 +134,17 @@ def plan_segments(
 ) -> list[Segment]:
     """Each ARM step with its working point and the moves before it (see module doc);
     ``held``: what the gripper holds at the start (a replan's)."""
-    things = _things(entries)
+    state = SceneState(entries, geo, held)
     uav = UavState(0.0, 0.0, 0.0, 0.0)
     out: list[Segment] = []
     for step in arm_steps:
-        point = _work_point(things, step, held, geo)
+        effect = effect_of(step.skill)
+        point = effect.work_point(state, step)
         legs = tuple(approach_moves(uav, point, geo)) if point is not None else ()
         out.append(Segment(step, uav, point, legs))
         if legs:
             uav = legs[-1].end
-        held = _apply(things, step, held)
+        effect.apply(state, step)
     return out
 
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vlm_bench.backends import Backend, operational_args, resolve_backend
-from vlm_bench.backends.preflight import BackendCheck, check_backend, loads_model_in_process
+from vlm_bench.backends.preflight import BackendCheck, check_backend
 from vlm_bench.backends.rules_planner import NO_SCENE
 from vlm_bench.errors import ConfigError, VlmBenchError
 from vlm_bench.runner.cached_snapshots import SnapshotSource, check_resolution
@@ -113,7 +113,7 @@ def _check_backend(config: RunConfig, given: Backend | None) -> BackendCheck:
     """The run's backend, checked without loading a model (a given instance is trusted)."""
     if given is not None:
         name = given.name
-        return BackendCheck(name, config.model, loads_model_in_process(name), given.sees_images)
+        return BackendCheck(name, config.model, given.sees_images)
     return check_backend(
         config.model, config.backend_args, constrained=config.generation.constrained
     )

@@ -8,10 +8,11 @@ cannot drift from the arguments.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
+from vlm_bench.types.backend_table import card_backends
 from vlm_bench.types.base import Frozen
 from vlm_bench.types.parse import AnswerFormat
 from vlm_bench.types.vision_tokens import VisionTokens
@@ -48,9 +49,14 @@ class TokenBudget(Frozen):
     recipe_image_tokens: int = Field(description="Image tokens of the recipe's prompt.")
 
 
-CardBackend = Literal["hf", "vllm", "openai"]
-"""The model backends a card can give a recipe for."""
-CARD_BACKENDS: tuple[CardBackend, ...] = ("hf", "vllm", "openai")
+def _card_backend(name: str) -> str:
+    if name not in card_backends():
+        raise ValueError(f"{name!r} is not a backend a card can name; valid: {card_backends()}")
+    return name
+
+
+CardBackend = Annotated[str, AfterValidator(_card_backend)]
+"""A backend a card can give a recipe for (the backend table's ``card`` rows)."""
 
 
 class ModelCard(Frozen):

@@ -4,11 +4,9 @@ space on the path the plan checked, let go, retreat and stow."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from vlm_bench.executor.motion.arm_core import MIN_MARGIN
 from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
@@ -16,8 +14,8 @@ from vlm_bench.executor.motion.ik import top_down_rotation
 from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
 from vlm_bench.executor.skills.carry_raise import raise_to_carry
 from vlm_bench.executor.skills.hand import RELEASE_RISE, Hand
+from vlm_bench.executor.skills.place_descents import PLACE_CLEARANCE, Descents, Drop
 from vlm_bench.executor.skills.release_points import (
-    can_drop_into,
     hang,
     kind_of,
     release_point,
@@ -31,8 +29,6 @@ from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import FailureCode, SkillFailure
 from vlm_bench.types.plan import ArmStep
 
-PLACE_CLEARANCE = 0.01  # m: a way down to a release keeping this clear of the rest is preferred
-GLIDE_TOL = 0.2  # rad: a descent planned after a glide must start this close to its end
 TALL = 2.0  # height over the narrowest side of the base: such an object is set down, not dropped
 SET_DOWN = 0.04  # m the hand lowers a tall object at most, from its release, to set it down
 SET_DOWN_STEP = 0.005  # m the hand lowers it per 0.1 s until it touches
@@ -47,26 +43,9 @@ SLIP = 0.03  # m a held object may move in the hand on the way to its release wh
 LIFT_SECONDS = 0.8  # s the hand takes to rise over its destination before a place
 RELEASE_TOL = 0.06  # m: the TCP must come this close to the release point (more than an
 # outstretched arm's sag: farther off, it did not get there)
-DRAWER_OUT = (0.36, 0.46)  # m, horizontal: arm base in front of a drawer release point
-DRAWER_DEPTHS = (1.0, 0.9)  # m: arm base above it (from a reach scan over an open drawer)
-DRAWER_TURNS = (math.pi, math.pi / 2, -math.pi / 2)  # rad: UAV heading turns tried last there
 
 Descent = tuple[FloatArray, FloatArray, FloatArray, BaseMove]
 """A descent's first and last postures, the hand's orientation and the UAV's move in all."""
-
-
-@dataclass(frozen=True, eq=False)
-class _Drop:
-    """Where one place lets go: the held object, the destination, the release point (TCP),
-    the point above it the descent starts from, the hand's heading now and what the hand
-    may touch (the held object)."""
-
-    held: str
-    dest: str
-    release: FloatArray
-    above: FloatArray
-    heading: float
-    ignore: set[int]
 
 
 class Placer:
@@ -75,6 +54,7 @@ class Placer:
     def __init__(self, hand: Hand) -> None:
         self.hand = hand
         self.loop = hand.loop
+        self.ways = Descents(hand)
 
     def place(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
         """Lower the held object onto/into ``step.object`` and release it."""
@@ -98,8 +78,8 @@ class Placer:
             # The arm cannot raise it that far on its own (folded up under the base) or not
             # clear of the scene: the UAV climbs the rest, carrying it.
             hand.shift_base(BaseMove.vertical(max(0.0, lift_to[2] - hand.tcp()[0][2])))
-        drop = _Drop(held, dest, release, above, heading, hand.body_geoms(held))
-        planned = self._plan_release(episode, drop)
+        drop = Drop(held, dest, release, above, heading, hand.body_geoms(held))
+        planned = self.ways.plan_release(episode, drop)
         if planned is None:
             return SkillFailure(FailureCode.OUT_OF_REACH, f"{dest} is out of reach")
         sol, drop = planned
@@ -119,37 +99,8 @@ class Placer:
             return False
         return hand.lines.line(tcp, to, rot, LIFT_SECONDS, GRIPPER_CLOSED)
 
-    def _plan_release(self, episode: Episode, drop: _Drop) -> tuple[Reach, _Drop] | None:
-        """The way down to the release, or, where it is not clear (the hand, 0.2 m long,
-        meets a wall or what lies there already) and the object may drop in, to just above
-        the rim, whichever touches less."""
-        loop = self.loop
-        sol = self._plan_top_down(
-            drop.release,
-            drop.above - drop.release,
-            drop.heading,
-            drop.ignore,
-            arm_qpos(loop.model, loop.data),
-            self._drawer_assists(episode, drop.dest, drop.release),
-        )
-        if (sol is None or sol.hits) and can_drop_into(self.hand, episode, drop.held, drop.dest):
-            rim = drop.release.copy()
-            rim[2] = drop.above[2] - 0.03
-            high = self._plan_top_down(
-                rim,
-                drop.above - rim,
-                drop.heading,
-                drop.ignore,
-                arm_qpos(loop.model, loop.data),
-                self._drawer_assists(episode, drop.dest, rim),
-            )
-            if high is not None and (sol is None or high.hits < sol.hits):
-                sol = high
-                drop = _Drop(drop.held, drop.dest, rim, drop.above, drop.heading, drop.ignore)
-        return None if sol is None else (sol, drop)
-
     def _release(
-        self, episode: Episode, sol: Reach, drop: _Drop, grip: FloatArray
+        self, episode: Episode, sol: Reach, drop: Drop, grip: FloatArray
     ) -> SkillFailure | None:
         """Fly ``sol``'s UAV move, bring the object over the release, lower it on the path the
         plan checked (in joint space: a long straight line into a deep drawer can leave IK's
@@ -212,7 +163,7 @@ class Placer:
             tcp = hand.tcp()[0]
         return tcp
 
-    def _bring_over(self, episode: Episode, drop: _Drop, sol: Reach) -> Descent:
+    def _bring_over(self, episode: Episode, drop: Drop, sol: Reach) -> Descent:
         """Carry the held object to above its release, with the UAV moved by ``sol``'s shift
         already: the hand glides there pointing down (turning to the plan's heading on the
         way, or, where the arm would meet itself turning, keeping its own); else the UAV flies
@@ -245,11 +196,11 @@ class Placer:
         ):
             return done
         travel = drop.above - hand.tcp()[0]
-        down = self._descent(drop, BaseMove(travel))
+        down = self.ways.descent(drop, BaseMove(travel))
         if down is not None and hand.flight.flight_clear(travel):
             hand.shift_base(BaseMove(travel))
             # Planned again where the UAV settled: the hover is never exact.
-            way = self._descent(drop, BaseMove.still()) or down
+            way = self.ways.descent(drop, BaseMove.still()) or down
             return way.q_start, way.q_end, way.rotation, sol.shift.plus(travel)
         return sol.q_start, sol.q_end, sol.rotation, sol.shift
 
@@ -261,7 +212,7 @@ class Placer:
 
     def _glide(
         self,
-        drop: _Drop,
+        drop: Drop,
         plan: Reach,
         shift: BaseMove,
         seconds: float,
@@ -279,83 +230,8 @@ class Placer:
             for rot, about in ways
         ):
             return None
-        way = self._descent(drop, BaseMove.still(), level) or plan
+        way = self.ways.descent(drop, BaseMove.still(), level) or plan
         return way.q_start, way.q_end, way.rotation, shift
-
-    def _descent(self, drop: _Drop, base: BaseMove, level: bool = False) -> Reach | None:
-        """The clear way down from above the release with the UAV moved by ``base``, starting
-        within :data:`GLIDE_TOL` of the arm's posture now (the hand already above), if any;
-        ``level``: at the hand's heading now where that way is clear (:meth:`_level_descent`)."""
-        now = arm_qpos(self.loop.model, self.loop.data)
-        if level and (down := self._level_descent(drop, base, now)) is not None:
-            return down
-        down = self._plan_top_down(
-            drop.release, drop.above - drop.release, drop.heading, drop.ignore, now, [base]
-        )
-        if down is None or down.hits or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
-            return None
-        return down
-
-    def _level_descent(self, drop: _Drop, base: BaseMove, now: FloatArray) -> Reach | None:
-        """The way down at the hand's heading now, starting within :data:`GLIDE_TOL` of the
-        arm's posture ``now``, touching nothing and ending clear of the joint limits; the
-        start may lie nearer a limit than a plan's :data:`MIN_MARGIN` (the arm stands there
-        already: the glide brought it, within its own margin)."""
-        core = self.hand.core
-        rot = self.hand.tcp()[1]
-        heading = math.atan2(rot[1, 0], rot[0, 0])
-        down = self._plan_top_down(
-            drop.release, drop.above - drop.release, heading, drop.ignore, now, [base], 1
-        )
-        if down is None or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
-            return None
-        if core.ik.limit_margin(down.q_end) < MIN_MARGIN:
-            return None
-        query = CollisionQuery.of(drop.ignore, GRIPPER_CLOSED, base, core.carried())
-        if core.hits_at(core.joint_samples(down.q_start, down.q_end, base), query, limit=0):
-            return None
-        return down._replace(hits=0)
-
-    def _plan_top_down(
-        self,
-        point: FloatArray,
-        approach: FloatArray,
-        yaw_rad: float,
-        ignore: set[int],
-        seed: FloatArray,
-        assist: list[BaseMove] | None = None,
-        turns: int = 4,
-    ) -> Reach | None:
-        """The top-down motion from ``point + approach`` down to ``point`` with the object
-        held, over the four headings equivalent for a box-like object (the first ``turns``
-        of them: 1, ``yaw_rad`` alone), preferring those that keep :data:`PLACE_CLEARANCE`
-        from the rest."""
-        rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(turns)]
-        return self.hand.planner.plan(
-            point, approach, rotations, ignore, GRIPPER_CLOSED, seed, assist, PLACE_CLEARANCE
-        )
-
-    def _drawer_assists(
-        self, episode: Episode, dest: str, release: FloatArray
-    ) -> list[BaseMove] | None:
-        """For a release into an open drawer, UAV moves to hover in front of it, high: the
-        drawer's tall front leaves the arm no way in across it, only down from above; then the
-        usual assists; last, the hovers with the UAV turned by one of :data:`DRAWER_TURNS`:
-        the base joint turns through 5.8 rad, not a full turn, so from one heading the arm may
-        have no way in that another gives. ``None`` (the usual assists) for other
-        destinations."""
-        part = next((p for p in episode.parts if p.id == dest and p.kind == "drawer"), None)
-        if part is None:
-            return None
-        axis = self.hand.outward_axis(part.parent)
-        base = self.loop.data.body(ARM_BASE_BODY).xpos
-        hover = [
-            np.append(release[:2] + axis[:2] * out, release[2] + depth) - base
-            for depth in DRAWER_DEPTHS
-            for out in DRAWER_OUT
-        ]
-        turned = [BaseMove(move, turn) for turn in DRAWER_TURNS for move in hover]
-        return [*map(BaseMove, hover), *self.hand.planner.assists(release), *turned]
 
     def _in_hand(self, obj: str) -> FloatArray:
         """Where ``obj`` is in the hand's frame (m)."""
