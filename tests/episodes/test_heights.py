@@ -54,7 +54,7 @@ def test_a_task_s_seeds_are_not_a_cycle() -> None:
 def test_table_step_decides_the_vertical_move_clearly() -> None:
     step = table_step()
     assert step - START_JITTER >= APPROACH.vertical_threshold + VERTICAL_MARGIN
-    assert START_JITTER <= APPROACH.vertical_threshold - VERTICAL_MARGIN
+    assert APPROACH.vertical_threshold - VERTICAL_MARGIN >= START_JITTER
 
 
 def test_stated_altitude_is_the_same_whatever_the_first_vertical_move(stored: dict) -> None:  # type: ignore[type-arg]

@@ -19,6 +19,7 @@ Seed 0 keeps the canonical layout, standard tables included, so it starts level.
 
 from __future__ import annotations
 
+import itertools
 import zlib
 from functools import cache
 
@@ -43,11 +44,11 @@ def table_step() -> float:
     """Height (m) between consecutive table kinds' tops (:data:`~.layout.TABLE_KINDS`);
     raises ``ValueError`` when they are not evenly spaced clear of the vertical threshold."""
     tops = [object_kind(kind).size[2] for kind in TABLE_KINDS]
-    steps = {round(b - a, 6) for a, b in zip(tops, tops[1:], strict=False)}
+    steps = {round(b - a, 6) for a, b in itertools.pairwise(tops)}
     step = steps.pop()
     move = APPROACH.vertical_threshold + VERTICAL_MARGIN
     stay = APPROACH.vertical_threshold - VERTICAL_MARGIN
-    if steps or step - START_JITTER < move or START_JITTER > stay:
+    if steps or step - START_JITTER < move or stay < START_JITTER:
         raise ValueError(f"table tops {tops} do not decide the vertical move clearly")
     return step
 
