@@ -22,6 +22,7 @@ the stated start altitude and, for the learned ones, the task's *other* seeds' G
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 from collections import Counter
 from collections.abc import Callable, Sequence
@@ -30,7 +31,6 @@ from vlm_bench.backends.blind_planner import (
     Moves,
     blind_plan,
     segment_table,
-    segments,
     stated_altitudes,
 )
 from vlm_bench.catalog.gt_episodes import load_materialised
@@ -108,7 +108,7 @@ def first_vertical(moves: Moves) -> int:
 def fit_thresholds(pairs: Sequence[tuple[float, int]]) -> tuple[float, float]:
     """(lo, hi) maximising the seeds whose side is -1 below lo, +1 above hi, else 0."""
     cuts = sorted({z for z, _ in pairs})
-    candidates = [-1e9, *((a + b) / 2 for a, b in zip(cuts, cuts[1:], strict=False)), 1e9]
+    candidates = [-1e9, *((a + b) / 2 for a, b in itertools.pairwise(cuts)), 1e9]
 
     def hits(lo: float, hi: float) -> int:
         return sum((-1 if z < lo else 1 if z > hi else 0) == side for z, side in pairs)
@@ -165,7 +165,10 @@ def evaluate(planner: Planner, seeds: Sequence[int]) -> dict[str, float]:
             row = (scores.s_plan, scores.s_loc, scores.s_loc_precision, ratio, scores.s_total)
             rows.extend([row, row])  # the explicit and implicit instructions share the plan
     names = ("S_plan", "S_loc", "S_loc_prec", "Move_ratio", "S_total")
-    return {"episodes": len(rows), **{n: sum(r[i] for r in rows) / len(rows) for i, n in enumerate(names)}}
+    return {
+        "episodes": len(rows),
+        **{n: sum(r[i] for r in rows) / len(rows) for i, n in enumerate(names)},
+    }
 
 
 def main() -> None:

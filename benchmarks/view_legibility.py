@@ -10,7 +10,9 @@ and, for every task object (:func:`vlm_bench.sim.cameras.task_objects`: the obje
 plan's ARM steps name, the owners of the parts they name, every movable non-support object),
 the shorter side of its pixel bounding box. Episodes are judged by
 :func:`vlm_bench.sim.footprint.legibility_failures` (the criterion is in that module's
-docstring). Prints the minima per view, the smallest objects by kind, the worst ten episodes and
+docstring). It also counts, with :mod:`vlm_bench.sim.view_checks`, the supports under task
+objects that show their top and full height in a view, and the label tags that cover a task
+object's pixels. Episodes are the materialised GT's. Prints the minima per view, the smallest objects by kind, the worst ten episodes and
 the wall time; ``--out`` writes one JSON line per episode as it finishes.
 """
 
@@ -39,18 +41,22 @@ VIEWS = ("overhead", "side")
 def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     global _RENDERER
     from vlm_bench.catalog.world_catalog import object_kind
-    from vlm_bench.episodes import make_episode
+    from vlm_bench.episodes import get_episode
     from vlm_bench.sim.footprint import measure_scene_legibility
     from vlm_bench.sim.render import SnapshotRenderer
     from vlm_bench.sim.scene import build_scene
+    from vlm_bench.sim.view_checks import label_overlaps, support_visibility
 
     if _RENDERER is None:
         _RENDERER = SnapshotRenderer(shadows=False)
     task, seed, size = job
     t0 = time.perf_counter()
-    episode = make_episode(task, seed)
-    measured = measure_scene_legibility(build_scene(episode), _RENDERER, size)
+    episode = get_episode(task, seed)
+    scene = build_scene(episode)
+    measured = measure_scene_legibility(scene, _RENDERER, size)
     row = measured.to_json()
+    row["supports"] = support_visibility(scene, _RENDERER, size)
+    row["label_overlaps"] = label_overlaps(scene, _RENDERER, size)
     kinds = {o.id: o.kind for o in episode.objects}
     row["suite"] = episode.suite.value
     row["environment"] = episode.environment
@@ -113,6 +119,16 @@ def summarise(rows: list[dict[str, Any]], wall: float, workers: int) -> None:
     print("min object px by kind (overhead, side, best of two):")
     for kind, (over, side, best) in sorted(by_kind.items(), key=lambda kv: kv[1][2]):
         print(f"  {kind:16} {over:4d} {side:4d} {best:4d}")
+    supports = [any(views.values()) for r in rows for views in r["supports"].values()]
+    blind_eps = [r for r in rows if not all(any(v.values()) for v in r["supports"].values())]
+    print(
+        f"height supports showing top and full height in a view: {sum(supports)} of "
+        f"{len(supports)}; episodes with every one shown: {len(rows) - len(blind_eps)} of {len(rows)}"
+    )
+    covered = [r for r in rows if r["label_overlaps"]]
+    print(f"episodes where a label covers a task object: {len(covered)} of {len(rows)}")
+    for row in covered[:10]:
+        print(f"  {row['task']} seed {row['seed']}: {row['label_overlaps']}")
     failing = [r for r in rows if r["failures"]]
     print(f"episodes failing the criterion: {len(failing)} of {len(rows)}")
     print("worst 10 episodes (smallest task object, best of two views; failures):")
@@ -157,7 +173,7 @@ def main() -> None:
         if sink is not None:
             sink.close()
     summarise(rows, time.perf_counter() - t0, args.workers)
-    sys.exit(1 if any(r["failures"] for r in rows) else 0)
+    sys.exit(1 if any(r["failures"] or r["label_overlaps"] for r in rows) else 0)
 
 
 if __name__ == "__main__":

@@ -70,11 +70,22 @@ def test_blind_stays_below_30_on_s_loc_with_perfect_language(tmp_path: Path) -> 
     assert all(s.s_obj == 100.0 and s.s_skill == 100.0 for s in scores)
 
 
-def test_blind_guesses_from_the_majority_of_other_seeds() -> None:
-    assert guess_moves([(D.LEFT,), (D.LEFT,), (D.FRONT,)]) == [D.LEFT]
-    assert guess_moves([(D.UP, D.LEFT), (D.UP, D.BACK), ()]) == [D.UP, D.LEFT]  # tie: first
-    assert guess_moves([(D.RIGHT, D.DOWN), (D.RIGHT, D.DOWN), ()]) == [D.RIGHT, D.DOWN]
-    assert guess_moves([(), (), (D.FRONT,)]) == []
+def test_blind_guesses_the_moves_of_highest_expected_credit() -> None:
+    def w(
+        *moves: tuple[D, ...], weights: tuple[float, ...] = ()
+    ) -> list[tuple[tuple[D, ...], float]]:
+        return list(zip(moves, weights or (1.0,) * len(moves), strict=True))
+
+    assert guess_moves(w((D.LEFT,), (D.LEFT,), (D.FRONT,))) == [D.LEFT]
+    assert guess_moves(w((D.UP, D.LEFT), (D.UP, D.BACK), ())) == [D.UP, D.LEFT]  # tie: first
+    assert guess_moves(w((D.RIGHT, D.DOWN), (D.RIGHT, D.DOWN), ())) == [D.RIGHT, D.DOWN]
+    # A guess costs nothing in S_loc: it moves where any other seed moves.
+    assert guess_moves(w((), (), (D.FRONT,))) == [D.FRONT]
+    # Neighbour credit: left (90 + 40 + 40) beats frontleft (100 + 36) and backleft (100 + 36).
+    weights = (1.0, 0.9, 1.0)
+    assert guess_moves(w((D.FRONTLEFT,), (D.LEFT,), (D.BACKLEFT,), weights=weights)) == [D.LEFT]
+    # Seeds weigh by how close their stated altitude is.
+    assert guess_moves(w((D.UP,), (D.DOWN,), weights=(0.1, 1.0)))[-1] == D.DOWN
     assert guess_moves([]) == []
     assert segments([]) == []
 

@@ -90,7 +90,9 @@ def _record(scores: PlanScores | dict[str, Any]) -> EpisodeRecord:
 
 
 def test_frame_columns_move_ratio_and_precision() -> None:
-    padded = score([uav("up"), uav("front"), arm("pick", "cube"), uav("left"), arm("place", "basket")])
+    padded = score(
+        [uav("up"), uav("front"), arm("pick", "cube"), uav("left"), arm("place", "basket")]
+    )
     row = records_frame([_record(padded)]).iloc[0]
     assert row.Move_ratio == 3.0  # 3 predicted moves / 1 GT move
     assert math.isclose(row.S_loc_prec, 100.0 / 3)

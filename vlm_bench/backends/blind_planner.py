@@ -39,7 +39,7 @@ SegmentTable = dict[tuple[str, int], dict[int, Moves]]
 ALTITUDE_BANDWIDTH = 0.1
 """m: a seed whose stated altitude lies this much from the episode's weighs e^-1/2 as much."""
 NEIGHBOUR_CREDIT = 40.0
-"""S_loc's default credit for a neighbouring sector (:class:`~vlm_bench.types.scores.ScoringConfig`)."""
+"""S_loc's default credit for a neighbouring sector (``ScoringConfig.neighbour_credit``)."""
 
 
 def segments(plan: Sequence[UavStep | ArmStep]) -> list[Moves]:
@@ -88,15 +88,17 @@ def guess_moves(seen: Sequence[tuple[Moves, float]]) -> list[Direction]:
     have there, each with its weight (see module doc)."""
     level: dict[Direction, float] = defaultdict(float)
     climb: dict[Direction, float] = defaultdict(float)
-    for moves, weight in seen:
-        first = next((d for d in moves if d.is_horizontal), None)
+    for other, weight in seen:
+        first = next((d for d in other if d.is_horizontal), None)
         if first is not None:
             level[first] += weight
-        for d in {d for d in moves if not d.is_horizontal}:
+        for d in {d for d in other if not d.is_horizontal}:
             climb[d] += weight
     moves: list[Direction] = []
     if level:  # ties go to the earlier direction
-        expected = {g: sum(w * _credit(g, d) for d, w in level.items()) for g in HORIZONTAL_DIRECTIONS}
+        expected = {
+            g: sum(w * _credit(g, d) for d, w in level.items()) for g in HORIZONTAL_DIRECTIONS
+        }
         moves.append(max(HORIZONTAL_DIRECTIONS, key=lambda g: expected[g]))
     if climb:
         vertical = max((Direction.UP, Direction.DOWN), key=lambda d: climb[d])
@@ -126,7 +128,12 @@ def blind_plan(
             if s != seed
         ]
         if not seen:
-            seen = [(m, 1.0) for (_, j), seeds in sorted(table.items()) if j == k for m in seeds.values()]
+            seen = [
+                (m, 1.0)
+                for (_, j), seeds in sorted(table.items())
+                if j == k
+                for m in seeds.values()
+            ]
         plan.extend(UavStep(direction=d) for d in guess_moves(seen))
         plan.append(step)
     return plan

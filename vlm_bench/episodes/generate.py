@@ -21,7 +21,12 @@ from vlm_bench.catalog.world_catalog import environment, object_kind
 from vlm_bench.episodes.gt_builder import AmbiguousGeometry, GroundTruthBuilder
 from vlm_bench.episodes.layout import part_refs, place_objects, support_kinds
 from vlm_bench.episodes.plane_geometry import point_rect_distance, rect_corners
-from vlm_bench.episodes.start import first_sector, first_table_kind, start_altitude
+from vlm_bench.episodes.start import (
+    first_sector,
+    first_table_kind,
+    start_altitude,
+    start_sides,
+)
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
 from vlm_bench.sim.cameras import third_person_views
@@ -120,12 +125,15 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"seed must be a non-negative integer, got {seed!r}")
     reasons: dict[str, int] = {}
-    candidates = _candidates(task, seed, reasons)
     best: tuple[float, Episode] | None = None  # the most legible episode short of the sizes
-    for tries, (score, episode) in enumerate(candidates, start=1):
-        if best is None or score > best[0]:
-            best = (score, episode)
-        if score >= 1.0 or seed == 0 or tries >= LEGIBLE_TRIES:
+    for side in start_sides(task, seed):  # the drawn side; another where geometry rules it out
+        candidates = _candidates(task, seed, side, reasons)
+        for tries, (score, episode) in enumerate(candidates, start=1):
+            if best is None or score > best[0]:
+                best = (score, episode)
+            if score >= 1.0 or seed == 0 or tries >= LEGIBLE_TRIES:
+                break
+        if best is not None:
             break
     if best is None:
         top = sorted(reasons.items(), key=lambda kv: -kv[1])[:3]
@@ -144,7 +152,7 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
 
 
 def _candidates(
-    task: TaskSpec, seed: int, reasons: dict[str, int]
+    task: TaskSpec, seed: int, side: int, reasons: dict[str, int]
 ) -> Iterator[tuple[float, Episode]]:
     """Valid episodes in attempt order, each with its sizes in the standard framing and its
     legibility there (the reasons attempts fail are counted into ``reasons``). Seed 0 keeps
@@ -153,7 +161,7 @@ def _candidates(
         rng = _rng(task.id, seed, attempt)
         try:
             kinds = support_kinds(task, None if seed == 0 else _support_rng(task.id, seed, attempt))
-            first = first_table_kind(task, seed)  # its height decides the first up/down
+            first = first_table_kind(task, side)  # its height decides the first up/down
             if first is not None:
                 kinds[first[0]] = first[1]
             objects = place_objects(task, None if seed == 0 else rng, kinds)
@@ -165,7 +173,7 @@ def _candidates(
             _count(reasons, exc)
             continue
         working = APPROACH.operating_altitude(float(target[2]))
-        z = start_altitude(task, seed, attempt, working)
+        z = start_altitude(task, seed, attempt, working, side)
         start = UavPose(pos=(level.pos[0], level.pos[1], z), yaw_deg=level.yaw_deg)
         try:
             _check_start(task, start, objects)

@@ -19,6 +19,7 @@ Seed 0 keeps the canonical layout, standard tables included, so it starts level.
 
 from __future__ import annotations
 
+import itertools
 import zlib
 from functools import cache
 
@@ -43,11 +44,11 @@ def table_step() -> float:
     """Height (m) between consecutive table kinds' tops (:data:`~.layout.TABLE_KINDS`);
     raises ``ValueError`` when they are not evenly spaced clear of the vertical threshold."""
     tops = [object_kind(kind).size[2] for kind in TABLE_KINDS]
-    steps = {round(b - a, 6) for a, b in zip(tops, tops[1:], strict=False)}
+    steps = {round(b - a, 6) for a, b in itertools.pairwise(tops)}
     step = steps.pop()
     move = APPROACH.vertical_threshold + VERTICAL_MARGIN
     stay = APPROACH.vertical_threshold - VERTICAL_MARGIN
-    if steps or step - START_JITTER < move or START_JITTER > stay:
+    if steps or step - START_JITTER < move or stay < START_JITTER:
         raise ValueError(f"table tops {tops} do not decide the vertical move clearly")
     return step
 
@@ -85,17 +86,26 @@ def bearing_table(task: TaskSpec) -> str | None:
     return None
 
 
-def first_table_kind(task: TaskSpec, seed: int) -> tuple[str, str] | None:
-    """(table id, kind) the first ARM step's table is built as, or None (no such table)."""
+def start_sides(task: TaskSpec, seed: int) -> list[int]:
+    """Sides to try in turn: :func:`vertical_start`'s, then the next ones round (a layout
+    whose geometry rules a side out, e.g. a later move's altitude near its threshold over
+    that table, takes the next); only 0 when no table bears the first object."""
+    if bearing_table(task) is None:
+        return [0]
+    first = vertical_start(task.id, seed)
+    return [(first + 1 + k) % 3 - 1 for k in range(3)]
+
+
+def first_table_kind(task: TaskSpec, side: int) -> tuple[str, str] | None:
+    """(table id, kind) the first ARM step's table is built as for ``side``, or None."""
     table = bearing_table(task)
     if table is None:
         return None
-    return table, TABLE_KINDS[1 - vertical_start(task.id, seed)]
+    return table, TABLE_KINDS[1 - side]
 
 
-def start_altitude(task: TaskSpec, seed: int, attempt: int, working: float) -> float:
-    """The start altitude (m) of one attempt, given the first working altitude ``working`` of
-    the attempt's layout (see module doc)."""
-    side = vertical_start(task.id, seed) if bearing_table(task) is not None else 0
+def start_altitude(task: TaskSpec, seed: int, attempt: int, working: float, side: int) -> float:
+    """The start altitude (m) of one attempt for ``side``, given the first working altitude
+    ``working`` of the attempt's layout (see module doc)."""
     rng = np.random.default_rng([zlib.crc32(task.id.encode()), seed, attempt, ALTITUDE_SALT])
     return round(working + side * table_step() + float(rng.uniform(-START_JITTER, START_JITTER)), 4)

@@ -13,8 +13,8 @@ from PIL import Image
 
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.errors import UnknownNameError
-from vlm_bench.sim.constants import CAMERAS, DEFAULT_IMAGE_SIZE, THIRD_PERSON_CAMERAS
 from vlm_bench.sim.cameras import task_objects
+from vlm_bench.sim.constants import CAMERAS, DEFAULT_IMAGE_SIZE, THIRD_PERSON_CAMERAS
 from vlm_bench.sim.labels import Box, draw_labels, project_points
 from vlm_bench.sim.render import SnapshotRenderer, contact_sheet
 from vlm_bench.sim.scene import Scene, build_scene

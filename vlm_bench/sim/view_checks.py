@@ -1,14 +1,16 @@
 """Rendered checks of what the third-person views let a model read: table heights and labels.
 
-Both work on segmentation renders (:meth:`~vlm_bench.sim.render.SnapshotRenderer.render_segmentation`)
-of the scene's ``overhead`` and ``side`` cameras, as the model is shown them:
+Both work on segmentation renders
+(:meth:`~vlm_bench.sim.render.SnapshotRenderer.render_segmentation`) of the scene's
+``overhead`` and ``side`` cameras, as the model is shown them:
 
 * :func:`support_visibility`: whether each *height support* (a support under a task object, or
   one a place step puts an object on) shows its top and its full height in a view: all eight
   corners of its box project inside the image, and its seen pixels span at least
   :data:`MIN_HEIGHT_SHARE` of the rows its box spans there (not hidden behind other things).
-* :func:`label_overlaps`: the set-of-marks tags (placed as :func:`~vlm_bench.sim.snapshot_render.label_tags`
-  and :func:`~vlm_bench.sim.labels.tag_layout` place them) that cover a task object's seen pixels.
+* :func:`label_overlaps`: the set-of-marks tags (placed as
+  :func:`~vlm_bench.sim.snapshot_render.label_tags` and :func:`~vlm_bench.sim.labels.tag_layout`
+  place them) that cover a task object's seen pixels.
 """
 
 from __future__ import annotations
@@ -52,7 +54,9 @@ def height_supports(episode: Episode) -> tuple[str, ...]:
 def _renders(
     scene: Scene, renderer: SnapshotRenderer, size: int, views: Sequence[str]
 ) -> dict[str, GeomIdImage]:
-    return {view: renderer.render_segmentation(scene.model, scene.data, view, size) for view in views}
+    return {
+        view: renderer.render_segmentation(scene.model, scene.data, view, size) for view in views
+    }
 
 
 def support_visibility(

@@ -1,0 +1,43 @@
+"""Labels keep off the task objects; the view checks read segmentation renders."""
+
+from __future__ import annotations
+
+import pytest
+
+from vlm_bench.episodes import get_episode
+from vlm_bench.sim.labels import _overlap, tag_layout
+from vlm_bench.sim.render import SnapshotRenderer
+from vlm_bench.sim.scene import build_scene
+from vlm_bench.sim.view_checks import height_supports, label_overlaps, support_visibility
+
+
+def test_a_tag_moves_off_an_object_box_where_it_would_go_first() -> None:
+    point = (200.0, 200.0)
+    ((_, _, first),) = tag_layout((448, 448), [("gray_cube_2", point)])
+    ((_, _, moved),) = tag_layout((448, 448), [("gray_cube_2", point)], avoid=[first])
+    assert _overlap(first, moved) == 0.0
+    # Boxes all round the point: the tag goes further out rather than over one.
+    ring = [(150.0, 150.0, 250.0, 250.0)]
+    ((_, _, far),) = tag_layout((448, 448), [("gray_cube_2", point)], avoid=ring)
+    assert _overlap(far, ring[0]) == 0.0
+
+
+@pytest.fixture(scope="module")
+def renderer() -> SnapshotRenderer:
+    return SnapshotRenderer(shadows=False)
+
+
+@pytest.mark.parametrize("seed", [0, 4])
+def test_no_label_covers_a_task_object(renderer: SnapshotRenderer, seed: int) -> None:
+    scene = build_scene(get_episode("color_distractor_green", seed))
+    assert any(o.label for o in scene.episode.objects)  # the case has labels to place
+    assert label_overlaps(scene, renderer) == []
+
+
+def test_supports_under_task_objects_are_checked_in_both_views(renderer: SnapshotRenderer) -> None:
+    episode = get_episode("pick_left_cup_red", 0)
+    supports = height_supports(episode)
+    assert "table" in supports
+    seen = support_visibility(build_scene(episode), renderer)
+    assert set(seen) == set(supports)
+    assert all(set(views) == {"overhead", "side"} for views in seen.values())
