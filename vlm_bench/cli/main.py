@@ -37,12 +37,13 @@ def _register() -> None:
     report_cmd.register(app)
     models_cmd.register(app)
     try:
-        from vlm_bench.cli import execute_cmd, prompt_cmd, run_cmds
+        from vlm_bench.cli import execute_cmd, export_cmds, prompt_cmd, run_cmds
     except ImportError:  # the planning pipeline commands are optional during development
         return
     run_cmds.register(app)
     prompt_cmd.register(app)
     execute_cmd.register(app)
+    export_cmds.register(app)
 
 
 def _one_line(text: str) -> str:
