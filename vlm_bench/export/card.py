@@ -24,9 +24,14 @@ CARD_KEY = "vlm_bench"
 
 
 def card_metadata(
-    options: ExportOptions, features: datasets.Features, rows: int, package_version: str
+    options: ExportOptions,
+    features: datasets.Features,
+    rows: int,
+    arrow_bytes: int,
+    package_version: str,
 ) -> dict[str, Any]:
-    """The card's YAML header as data."""
+    """The card's YAML header as data (``arrow_bytes``: the rows' size in memory, which
+    ``datasets`` calls a split's ``num_bytes``)."""
     from vlm_bench.types.benchmark_version import BENCHMARK_VERSION
 
     return {
@@ -43,7 +48,8 @@ def card_metadata(
         "dataset_info": {
             "config_name": "default",
             "features": features._to_yaml_list(),
-            "splits": [{"name": SPLIT, "num_examples": rows}],
+            "splits": [{"name": SPLIT, "num_bytes": arrow_bytes, "num_examples": rows}],
+            "dataset_size": arrow_bytes,
         },
         CARD_KEY: {
             "benchmark_version": BENCHMARK_VERSION,
@@ -72,13 +78,14 @@ def card_text(
     options: ExportOptions,
     features: datasets.Features,
     rows: int,
+    arrow_bytes: int,
     package_version: str,
     example: DatasetRow | None = None,
 ) -> str:
     """The whole ``README.md``: YAML header, then the description."""
     from vlm_bench.types.benchmark_version import BENCHMARK_VERSION
 
-    header = _yaml(card_metadata(options, features, rows, package_version))
+    header = _yaml(card_metadata(options, features, rows, arrow_bytes, package_version))
     images = ", ".join(f"`{image_column(v)}`" for v in options.views)
     key = example.key if example is not None else "drawer_interaction/0/explicit"
     body = f"""# vlm-bench aerial manipulation planning (benchmark version {BENCHMARK_VERSION})

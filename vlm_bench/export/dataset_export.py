@@ -102,7 +102,8 @@ def export_dataset(
             writer = write_shards(
                 records(), staging / DATA_FOLDER, features, names, shard_rows, advance
             )
-        card = card_text(options, features, writer.rows, __version__, first[0] if first else None)
+        example = first[0] if first else None
+        card = card_text(options, features, writer.rows, writer.arrow_bytes, __version__, example)
         (staging / "README.md").write_text(card, encoding="utf-8")
         _install(staging, out)
     except BaseException:

@@ -55,6 +55,7 @@ class ShardWriter:
         self.shard_rows = shard_rows
         self.rows = 0
         self.bytes = 0
+        self.arrow_bytes = 0
         self._group: list[dict[str, Any]] = []
         self._writer: pq.ParquetWriter | None = None
         self._shard = -1
@@ -87,6 +88,7 @@ class ShardWriter:
             self._open_next()
         assert self._writer is not None
         table = pa.Table.from_pylist(self._group, schema=self.schema)
+        self.arrow_bytes += table.nbytes
         self._writer.write_table(table, row_group_size=len(self._group))
         self._group = []
 
@@ -126,7 +128,7 @@ def write_shards(
     """Write ``records`` to the shards ``names`` in ``folder``; ``advance(1)`` after each.
 
     Returns:
-        The closed writer (``.rows``, ``.bytes``).
+        The closed writer (``.rows``, ``.bytes`` on disk, ``.arrow_bytes`` in memory).
     """
     writer = ShardWriter(folder, features, names, shard_rows)
     for record in records:

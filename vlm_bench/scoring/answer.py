@@ -126,8 +126,11 @@ def _target_of_row(row: Mapping[str, Any]) -> _Target:
         )
     task_id, seed, variant = _split_key(str(row["key"]))
     try:
-        plan = _PLAN.validate_python(json.loads(row["gt_plan"]))
-    except (ValueError, ValidationError):
+        steps = json.loads(row["gt_plan"])
+        plan = _PLAN.validate_python(
+            [{k: v for k, v in s.items() if k != "subtask"} for s in steps]
+        )
+    except (ValueError, TypeError, AttributeError, ValidationError):
         raise ConfigError(f"dataset row {row['key']}: gt_plan is not a plan") from None
     return _Target(task_id, seed, variant, tuple(row["objects"]), plan)
 
