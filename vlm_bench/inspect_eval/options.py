@@ -11,6 +11,7 @@ from vlm_bench.cli.run_cmds import parse_instructions
 from vlm_bench.errors import ConfigError
 from vlm_bench.export.options import ExportOptions, export_options
 from vlm_bench.types.closed_loop import LoopMode, PerturbConfig, parse_perturb
+from vlm_bench.types.run import RunConfig, run_config
 
 
 @dataclass(frozen=True)
@@ -88,3 +89,17 @@ def task_options(
         perturb=perturbations,
         uav_noise=gust,
     )
+
+
+def loop_run_config(options: TaskOptions) -> RunConfig:
+    """The run configuration a ``vlm-bench run`` of the same episodes and loop would have
+    (its prompts, its closed loop, its executor settings)."""
+    fields = options.episodes.run_config().model_dump()
+    fields.update(
+        model="inspect",
+        loop=options.loop,
+        uav_noise=options.uav_noise,
+        perturb=options.perturb,
+        **({"max_rounds": options.max_rounds} if options.loop == "closed" else {}),
+    )
+    return run_config(**fields)
