@@ -77,3 +77,7 @@ def test_closed_loop_equals_a_closed_loop_run_of_the_same_answers(tmp_path: Path
     metrics = {s.name: s.metrics for s in log.results.scores}
     assert metrics["Succ@0"]["grouped_overall"].value == pytest.approx(50.0)
     assert metrics["Succ@1"]["grouped_overall"].value == pytest.approx(100.0)
+    # The run's results.json holds the same Succ@k (both instructions pooled: explicit only).
+    results = json.loads((tmp_path / "run" / "results.json").read_text())
+    pooled = {s["k"]: s["estimate"]["value"] for s in results["succ_at_k"]}
+    assert pooled == {0: 50.0, 1: 100.0, 2: 100.0}

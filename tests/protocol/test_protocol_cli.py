@@ -77,3 +77,19 @@ def test_reports_say_when_runs_of_different_protocols_are_pooled(cli: Cli, tmp_p
     assert "Runs of different protocols" in latex and "custom" in latex
     apart = cli.invoke("report", str(paper), str(custom), "-f", "csv", "--no-stats", "--by", "run")
     assert set(_csv(apart)["protocol"]) == {"paper", "custom"}
+
+
+def test_the_python_api_takes_a_protocol(tmp_path: Path) -> None:
+    import vlm_bench
+
+    result = vlm_bench.run(
+        model="oracle", protocol="closed", tasks=(TASK,), seeds=(0,), out=tmp_path / "run"
+    )
+    config = result.manifest.config
+    assert config.loop == "closed" and config.max_rounds == 3
+    assert config.perturb is not None and (config.perturb.slip, config.perturb.bump) == (0.3, 0.3)
+    assert config.instructions == ("explicit", "implicit") and config.seeds == (0,)
+    assert result.manifest.protocol is not None and result.manifest.protocol.name == "closed"
+    results = json.loads((tmp_path / "run" / "results.json").read_text())
+    assert results["loop"] == "closed"
+    assert [s["k"] for s in results["succ_at_k"] if s["instruction"] == "both"] == [0, 1, 2, 3]
