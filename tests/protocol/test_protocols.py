@@ -115,3 +115,8 @@ def test_a_manifest_from_before_protocols_loads_and_gets_its_protocol() -> None:
     loaded = RunManifest.model_validate(old)
     assert loaded.protocol is None
     assert manifest_protocol(loaded) == ProtocolMark(name="paper")
+
+
+def test_closed_refuses_no_execute_in_one_line() -> None:
+    with pytest.raises(ConfigError, match="loop closed needs execute"):
+        with_protocol(RunConfig(model="m", execute=False), "closed", {"execute"})
