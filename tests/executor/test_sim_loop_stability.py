@@ -9,8 +9,8 @@ import mujoco
 import pytest
 
 from vlm_bench.episodes import get_episode
-from vlm_bench.executor.plan_execution import episode_scene
 from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
+from vlm_bench.executor.step_execution import episode_scene
 from vlm_bench.types.execution import ExecutorConfig
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
@@ -18,8 +18,9 @@ from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
-from vlm_bench.runner.executions import EXECUTION_LOST, MAX_ATTEMPTS, WORKER_DIED
-from vlm_bench.runner.loop_executions import LoopExecutions
+from vlm_bench.runner.execution_jobs import execute_job
+from vlm_bench.runner.executions import EXECUTION_LOST, Executions
+from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED
 from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionOptions
@@ -169,13 +170,13 @@ class _FlakyPool:
         self.breaks = breaks
         self.restarts = 0
 
-    def submit_call(self, fn: Callable[[Any], Any], job: Any) -> Future[Any]:
+    def submit(self, job: Any) -> Future[Any]:
         future: Future[Any] = Future()
         if self.breaks > 0:
             self.breaks -= 1
             future.set_exception(BrokenProcessPool("a worker died"))
         else:
-            future.set_result(fn(job))
+            future.set_result(execute_job(job))
         return future
 
     def restart(self) -> None:
@@ -195,7 +196,7 @@ def _hop_record() -> tuple[Episode, EpisodeRecord]:
 def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
     episode, record = _hop_record()
     pool = _FlakyPool(breaks=1)
-    loops = LoopExecutions(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
+    loops = Executions(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
     assert loops.submit(episode, record) is None
     assert list(loops.drain()) == []  # round 0 failed its goals: waiting for the replan
     assert pool.restarts == 1 and len(loops.requests()) == 1
@@ -203,7 +204,7 @@ def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
 
 def test_an_episode_whose_worker_keeps_dying_is_lost_and_retried_on_resume() -> None:
     episode, record = _hop_record()
-    dying = LoopExecutions(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
+    dying = Executions(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
     dying.submit(episode, record)
     (out,) = list(dying.drain())
     assert out.status == "error" and out.loop is None  # not a result: a resume runs it again
@@ -219,7 +220,7 @@ class _HungPool(_FlakyPool):
         super().__init__(breaks=0)
         self.abandoned = 0
 
-    def submit_call(self, fn: Callable[[Any], Any], job: Any) -> Future[Any]:
+    def submit(self, job: Any) -> Future[Any]:
         return Future()
 
     def abandon(self) -> None:
@@ -229,7 +230,7 @@ class _HungPool(_FlakyPool):
 def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
     episode, record = _hop_record()
     pool = _HungPool()
-    loops = LoopExecutions(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
+    loops = Executions(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
     loops.submit(episode, record)
     start = time.monotonic()
     out: list[EpisodeRecord] = []

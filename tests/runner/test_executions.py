@@ -20,18 +20,12 @@ from rich.console import Console
 
 import vlm_bench
 from vlm_bench.episodes import get_episode
+from vlm_bench.rounds import StateView
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
-from vlm_bench.runner.executions import (
-    EXECUTION_LOST,
-    MAX_ATTEMPTS,
-    WORKER_DIED,
-    Executed,
-    ExecutionJob,
-    Executions,
-    InlinePool,
-    ProcessPool,
-    execute_job,
-)
+from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
+from vlm_bench.runner.execution_pools import InlinePool, ProcessPool
+from vlm_bench.runner.executions import EXECUTION_LOST, Executions
+from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.storage import latest_records, read_records
 from vlm_bench.types.episode import Episode
@@ -54,6 +48,15 @@ if TYPE_CHECKING:
     from tests.conftest import Cli
 
 
+OPEN = RunConfig(model="oracle")
+"""An open-loop run's configuration (no gusts, no perturbations)."""
+
+
+def _summary(executed: Executed) -> ExecutionSummary:
+    """The execution of a one-round job."""
+    return executed.outcomes[-1].execution
+
+
 def _outcome(summary: ExecutionSummary | None) -> dict[str, object] | None:
     """What must not depend on where an execution ran: all but its wall time."""
     return None if summary is None else summary.model_dump(exclude={"wall_time_s"})
@@ -68,40 +71,39 @@ def _jobs() -> list[ExecutionJob]:
     jobs = []
     for task in FAST[:2]:
         ep = get_episode(task, 0)
-        jobs.append(ExecutionJob(task, 0, ExecutorConfig(), tuple(ep.gt_plan)))
+        jobs.append(ExecutionJob(task, 0, ExecutorConfig(), (tuple(ep.gt_plan),)))
         down = (UavStep(direction=Direction.DOWN, distance=0.2),)
-        jobs.append(ExecutionJob(task, 0, ExecutorConfig(), down))
+        jobs.append(ExecutionJob(task, 0, ExecutorConfig(), (down,)))
     return jobs
 
 
 def test_jobs_carry_the_runs_executor_config_across_processes() -> None:
     import pickle
 
-    from vlm_bench.runner.loop_jobs import LoopJob
     from vlm_bench.types.closed_loop import PerturbConfig
 
     config = RunConfig(model="m", tasks=(FAST[0],), uav_noise=2.0, perturb=PerturbConfig(bump=0.5))
     executor = config.executor_config()
     steps = (UavStep(direction=Direction.DOWN, distance=0.2),)
-    job = ExecutionJob(FAST[0], 0, executor, steps)
-    loop_job = LoopJob(FAST[0], 0, executor, (steps,), None)
+    job = ExecutionJob(FAST[0], 0, executor, (steps,))
+    loop_job = ExecutionJob(FAST[0], 0, executor, (steps, steps), StateView(("side",), 32))
     for sent in (job, loop_job):
         back = pickle.loads(pickle.dumps(sent))
         assert back == sent and back.key == sent.key and back.config == executor
-    calm = ExecutionJob(FAST[0], 0, ExecutorConfig(), steps)
+    calm = ExecutionJob(FAST[0], 0, ExecutorConfig(), (steps,))
     assert calm.key != job.key  # other settings: another execution
 
 
 def test_outcomes_do_not_depend_on_the_pool_or_its_workers() -> None:
     jobs = _jobs()
-    inline = [execute_job(j)[0] for j in jobs]
+    inline = [_summary(execute_job(j)) for j in jobs]
     assert inline[0].exec_success and not inline[1].exec_success
     for workers in (2,):  # one worker is covered by the run below
         pool = ProcessPool(workers)
         try:
             # reversed: each worker meets the episodes in another order than inline
             futures = [pool.submit(j) for j in reversed(jobs)]
-            pooled = [f.result(timeout=300)[0] for f in reversed(futures)]
+            pooled = [_summary(f.result(timeout=300)) for f in reversed(futures)]
         finally:
             pool.close()
         assert [_outcome(s) for s in pooled] == [_outcome(s) for s in inline]
@@ -114,7 +116,7 @@ def test_ray_pool_gives_the_same_outcomes() -> None:
     jobs = _jobs()[:2]
     pool = RayPool(2)
     try:
-        got = [f.result(timeout=300)[0] for f in [pool.submit(j) for j in jobs]]
+        got = [_summary(f.result(timeout=300)) for f in [pool.submit(j) for j in jobs]]
         for _ in range(100):  # the refs are dropped by the futures' done-callbacks
             if pool.held == 0:
                 break
@@ -122,7 +124,7 @@ def test_ray_pool_gives_the_same_outcomes() -> None:
         assert pool.held == 0  # finished executions do not pin their results
     finally:
         pool.close()
-    assert [_outcome(s) for s in got] == [_outcome(execute_job(j)[0]) for j in jobs]
+    assert [_outcome(s) for s in got] == [_outcome(_summary(execute_job(j))) for j in jobs]
 
 
 def test_a_run_writes_the_same_records_inline_or_in_a_worker(tmp_path: Path) -> None:
@@ -207,7 +209,7 @@ def _record(task: str) -> tuple[Episode, EpisodeRecord]:
 def test_a_dead_worker_is_replaced_and_the_execution_sent_again() -> None:
     ep, record = _record(FAST[0])
     pool = _FlakyPool(breaks=1)
-    executions = Executions(pool)
+    executions = Executions(pool, OPEN)
     assert executions.submit(ep, record) is None
     assert executions.submit(ep, record.model_copy(update={"key": "same plan"})) is None
     out = list(executions.drain())
@@ -218,7 +220,7 @@ def test_a_dead_worker_is_replaced_and_the_execution_sent_again() -> None:
 
 def test_an_execution_that_keeps_killing_its_worker_is_lost_and_retried_on_resume() -> None:
     ep, record = _record(FAST[0])
-    executions = Executions(_FlakyPool(breaks=MAX_ATTEMPTS))
+    executions = Executions(_FlakyPool(breaks=MAX_ATTEMPTS), OPEN)
     executions.submit(ep, record)
     (out,) = list(executions.drain())
     assert out.status == "error" and out.execution is None  # not a result: a resume retries
@@ -230,14 +232,14 @@ def test_an_execution_that_keeps_killing_its_worker_is_lost_and_retried_on_resum
 def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    from vlm_bench import executor
+    from vlm_bench.executor.live_episode import LiveEpisode
 
     def broken(*args: object, **kwargs: object) -> None:
         raise ZeroDivisionError("executor bug")
 
-    monkeypatch.setattr(executor, "execute_plan", broken)
+    monkeypatch.setattr(LiveEpisode, "execute", broken)
     ep, record = _record(FAST[0])
-    executions = Executions(InlinePool())
+    executions = Executions(InlinePool(), OPEN)
     executions.submit(ep, record)
     (out,) = list(executions.drain())
     assert out.status == "ok" and out.execution is not None
@@ -248,7 +250,7 @@ def test_an_executor_exception_on_a_valid_plan_stays_a_recorded_crash(
 def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
     ep, record = _record(FAST[0])
     pool = _HungPool()
-    executions = Executions(pool, stall_s=0.3)
+    executions = Executions(pool, OPEN, stall_s=0.3)
     executions.submit(ep, record)
     start = time.monotonic()
     out: list[EpisodeRecord] = []
@@ -286,7 +288,7 @@ def test_a_run_whose_executions_were_lost_resumes_them(
 def test_a_record_without_a_plan_is_finished_at_once() -> None:
     ep, record = _record(FAST[0])
     no_plan = record.model_copy(update={"parse": None})
-    executions = Executions(InlinePool())
+    executions = Executions(InlinePool(), OPEN)
     finished = executions.submit(ep, no_plan)
     assert finished is not None and finished.execution is None and executions.in_flight == 0
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from vlm_bench.episodes import get_episode
-from vlm_bench.executor.plan_execution import episode_scene
+from vlm_bench.executor.step_execution import episode_scene
 from vlm_bench.sim.uav_control import GustConfig, UavController
 from vlm_bench.types.execution import ExecutorConfig
 

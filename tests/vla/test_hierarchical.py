@@ -14,8 +14,8 @@ from pydantic import ValidationError
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor import SimLoop, default_skills, execute_plan
-from vlm_bench.executor.plan_execution import execute_move, next_arm_step
 from vlm_bench.executor.references import StepReferences
+from vlm_bench.executor.step_execution import execute_move, next_arm_step
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos, gripper_opening
 from vlm_bench.sim.scene import build_scene

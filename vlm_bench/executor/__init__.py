@@ -4,7 +4,7 @@ checks goals.
 The wing is laid out by concept, each layer importing only those before it:
 
 * ``vlm_bench.executor`` (this package): the plan execution (:func:`execute_plan`,
-  ``plan_execution``), the simulation loop (``sim_loop``), goal predicates (``goals``), the GT's
+  ``live_episode``), the simulation loop (``sim_loop``), goal predicates (``goals``), the GT's
   reference points read live (``references``), the VLA metrics every execution is scored on
   (``vla_metrics``: the runner stores them, so they stay below :mod:`vlm_bench.vla`) and video.
 * ``executor.motion``: how the robot moves, independent of any skill: IK, collision queries,
@@ -16,7 +16,7 @@ The wing is laid out by concept, each layer importing only those before it:
 Learned low-level policies and the gymnasium environment live above, in :mod:`vlm_bench.vla`.
 """
 
-from vlm_bench.executor.plan_execution import execute_plan
+from vlm_bench.executor.live_episode import execute_plan
 from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.types.execution import ExecutionResult

@@ -3,7 +3,7 @@
 Each :meth:`LiveEpisode.execute` runs a plan's steps from the current state, stopping at the
 first failure, lets the scene settle, checks the task's goals and scores the round; the next
 call continues the same simulation (the closed loop's replans, docs/design.md#closed-loop).
-A single call on a fresh episode is :func:`~vlm_bench.executor.plan_execution.execute_plan`.
+A single call on a fresh episode is :func:`execute_plan`.
 Non-targets' displacement is measured from the episode's start, the simulated time is the
 episode's clock, and the perturbations a round lists are those that fired in it.
 """
@@ -148,3 +148,30 @@ class LiveEpisode:
             sim_time_s=loop.time,
             wall_time_s=wall_s,
         )
+
+
+def execute_plan(
+    episode: Episode,
+    plan: PlanSteps,
+    config: ExecutorConfig | None = None,
+    scene: Scene | None = None,
+    arm_skills: SkillFactory = default_skills,
+    observers: Sequence[Callable[[SimLoop], None]] = (),
+) -> ExecutionResult:
+    """Execute ``plan`` on ``episode``'s scene (built fresh unless ``scene`` is given).
+
+    Args:
+        episode: The episode (scene, goals, GT used for non-target objects).
+        plan: Validated plan steps.
+        config: Executor settings (default: the benchmark's), gusts and perturbations included.
+        scene: A scene to run on instead of building one (it is modified).
+        arm_skills: Makes the ARM skills for the loop (default: the scripted skills); a skill
+            missing there fails its step with a reason. Hierarchical pipelines pass
+            policy-driven skills here.
+        observers: Called after every control step (e.g. a video recorder).
+
+    Execution stops at the first failed step; later steps are skipped. The result is always
+    returned (simulator blow-ups and a spent simulated-time budget,
+    :meth:`~vlm_bench.types.execution.ExecutorConfig.sim_budget_s`, become failed steps).
+    """
+    return LiveEpisode(episode, config, scene, arm_skills, observers).execute(plan)

@@ -17,7 +17,6 @@ from vlm_bench.runner.cached_snapshots import SnapshotSource, check_resolution
 from vlm_bench.runner.episode_request import run_snapshots
 from vlm_bench.runner.executions import Executions, make_pool
 from vlm_bench.runner.interrupt import deferred_interrupt
-from vlm_bench.runner.loop_executions import LoopExecutions
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.selection import run_protocol, select_episodes
@@ -136,15 +135,12 @@ def _executions(
     options: ExecutionOptions | None,
     on_change: Callable[[int, int, int, int], None],
     sees_images: bool,
-) -> Executions | LoopExecutions | None:
-    """Where the run's plans execute: closed-loop episodes, or one execution per plan."""
+) -> Executions | None:
+    """Where the run's episodes execute (None: the run does not execute plans)."""
     if not config.execute:
         return None
     options = options or ExecutionOptions()
-    pool = make_pool(options)
-    if config.loop == "closed":
-        return LoopExecutions(pool, config, on_change, options.stall_s, sees_images)
-    return Executions(pool, config.executor_config(), on_change, options.stall_s)
+    return Executions(make_pool(options), config, on_change, options.stall_s, sees_images)
 
 
 def run_benchmark(

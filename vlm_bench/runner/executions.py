@@ -1,15 +1,18 @@
-"""Plan executions off the generation path (docs/design.md#runs): records' plans execute in a
-pool of worker processes (or on a Ray cluster, :mod:`vlm_bench.runner.executions_ray`) while the
-backend generates the next batches.
+"""Executions off the generation path (docs/design.md#runs): each record's episode runs its
+round machine (:mod:`vlm_bench.rounds`) on a pool of worker processes (or on a Ray cluster,
+:mod:`vlm_bench.runner.executions_ray`) while the backend generates the next batches.
 
-An :class:`Executions` takes scored records, sends each usable plan to its pool once per episode
-(identical plans on the same episode, e.g. both instruction variants, share one execution) and
-hands back finished records, with their execution attached, in the order executions finish. The
-simulation is deterministic and every execution starts from the episode's freshly compiled scene,
-so an outcome does not depend on the pool, the number of workers or the order.
+An :class:`Executions` takes scored records, sends each round the machine asks to execute to its
+pool (identical jobs share one execution: both instruction variants' same plan) and hands back
+finished records, with their execution (and, in a closed loop, their rounds), in the order
+episodes end. A replan the machine asks for waits in :meth:`Executions.requests` until the
+pipeline answers it (:meth:`Executions.answer`). An open loop is the machine with no replans.
+The simulation is deterministic and every job starts from the episode's start scene (or a
+frozen episode that continues one), so an outcome does not depend on the pool, the number of
+workers or the order.
 
-``workers=0`` executes inline, in the calling process, when a record is submitted (no overlap:
-for debugging and for callers that need the result at once).
+``workers=0`` executes inline, in the calling process, when a round is sent (no overlap: for
+debugging and for callers that need the result at once).
 """
 
 from __future__ import annotations
@@ -17,37 +20,22 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
-from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
-from vlm_bench.runner.execution_pools import (
-    ExecutionPool,
-    InlinePool,
-    ProcessPool,
-    broken_future,
-    default_workers,
-)
-from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED, Pending, PendingJobs
+from vlm_bench.rounds.machine import Done, Execute, RoundMachine, Step
+from vlm_bench.rounds.replan_prompt import Conversation
+from vlm_bench.rounds.state import ReplanRequest, StateView
+from vlm_bench.runner.execution_jobs import Executed, ExecutionJob
+from vlm_bench.runner.execution_pools import ExecutionPool, InlinePool, ProcessPool, default_workers
+from vlm_bench.runner.pending_jobs import PendingJobs
 from vlm_bench.runner.plan_executor import record_plan
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionOptions, ExecutorConfig
-from vlm_bench.types.records import EpisodeRecord
-
-__all__ = [
-    "EXECUTION_LOST",
-    "MAX_ATTEMPTS",
-    "WORKER_DIED",
-    "Executed",
-    "ExecutionJob",
-    "ExecutionPool",
-    "ExecutionStats",
-    "Executions",
-    "InlinePool",
-    "ProcessPool",
-    "broken_future",
-    "default_workers",
-    "execute_job",
-    "lost_record",
-    "make_pool",
-]
+from vlm_bench.types.execution import ExecutionOptions
+from vlm_bench.types.generation import GenerationRequest
+from vlm_bench.types.parse import ParseResult
+from vlm_bench.types.plan import plan_to_json
+from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.rounds import RoundRecord
+from vlm_bench.types.run import RunConfig
+from vlm_bench.types.task import InstructionVariant
 
 EXECUTION_LOST = "execution lost to the infrastructure"
 """Start of the message of a record whose execution the infrastructure lost (retried on resume)."""
@@ -74,9 +62,9 @@ class ExecutionStats:
     submitted: int = 0
     """Records whose plans were sent (or shared an execution)."""
     executed: int = 0
-    """Executions run (identical plans on one episode run once)."""
+    """Executions run (identical jobs run once)."""
     finished: int = 0
-    """Records handed back with their execution."""
+    """Records handed back."""
     crashes: int = 0
     """Executions that ended in an executor exception (recorded as failures)."""
     crash_messages: list[str] = field(default_factory=list)
@@ -85,107 +73,263 @@ class ExecutionStats:
     """Records whose execution the infrastructure lost (written as errors a resume retries)."""
 
 
-class Executions:
-    """Executes records' plans on a pool; hands records back as their executions finish.
+@dataclass(frozen=True)
+class Ask:
+    """A replan to generate: the episode, the request and its cache key."""
 
-    An execution lost to the infrastructure (its worker died :data:`MAX_ATTEMPTS` times, Ray
-    gave up on it, or no execution finished for ``stall_s`` seconds: a hung worker, a dead node;
-    :mod:`~vlm_bench.runner.pending_jobs`)
-    hands its record back as an ``error`` record (:data:`EXECUTION_LOST`), which a resume runs
-    again; an exception of the executor on the plan stays a recorded ``executor_crash``.
+    key: str
+    """Episode key."""
+    prompt_hash: str
+    request: GenerationRequest
+
+
+@dataclass
+class _Live:
+    episode: Episode
+    first: EpisodeRecord
+    machine: RoundMachine
+    conversation: Conversation
+    plans: list[tuple[Step, ...]] = field(default_factory=list)
+    rounds: list[RoundRecord] = field(default_factory=list)
+    replan: ReplanRequest | None = None
+    frozen: bytes | None = None
+    """The live episode frozen where the last round left it (the next round starts there)."""
+
+
+class Executions:
+    """Drives every submitted episode's round machine on a pool (see module doc).
 
     Args:
-        pool: Where executions run.
-        config: Executor settings of every execution (gusts, perturbations; default: none).
-        on_change: Called with (submitted, finished, running, queued) after every change
-            (progress displays).
+        pool: Where the rounds execute.
+        config: The run's configuration (loop, executor settings, view options).
+        on_change: Called with (submitted, finished, running, queued) after every change.
         stall_s: Longest time with executions in flight and none finishing (s); default:
             :attr:`ExecutionOptions.stall_s <vlm_bench.types.execution.ExecutionOptions.stall_s>`.
+        sees_images: The planner reads images; False: replans' views are not rendered.
+
+    An execution the infrastructure loses (its worker died
+    :data:`~vlm_bench.runner.pending_jobs.MAX_ATTEMPTS` times, Ray gave up, or no execution
+    finished for ``stall_s``) ends its episode as an ``error`` record (:func:`lost_record`),
+    which a resume runs again from the cached answers; an exception of the executor stays a
+    recorded ``executor_crash``.
     """
 
     def __init__(
         self,
         pool: ExecutionPool,
-        config: ExecutorConfig | None = None,
+        config: RunConfig,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
+        sees_images: bool = True,
     ) -> None:
         self.pool = pool
-        self.config = config or ExecutorConfig()
-        self.stats = ExecutionStats()
+        self.config = config
+        self.closed = config.loop == "closed"
+        views = config.views if config.images and sees_images else ()
+        self.view = StateView(tuple(views), config.resolution, config.labels)
+        """The views a replan shows (none where nobody looks at them)."""
+        self.executor = config.executor_config()
         self.stall_s = ExecutionOptions().stall_s if stall_s is None else stall_s
+        self.stats = ExecutionStats()
         self._notify = on_change
-        self._pending: PendingJobs[EpisodeRecord, ExecutionJob, Executed] = PendingJobs(
-            pool, pool.submit, lambda job: job.key, self.stall_s
+        self._live: dict[str, _Live] = {}
+        self._running: PendingJobs[str, ExecutionJob, Executed] = PendingJobs(
+            pool,
+            pool.submit,
+            lambda job: job.key,
+            self.stall_s,
+            keep_done=not self.closed,  # closed-loop results hold frozen episodes and views
         )
-        """Records waiting for their execution: a second record with the same plan waits on the
-        first's."""
+        self._asks: list[tuple[str, ReplanRequest]] = []
 
     @property
     def in_flight(self) -> int:
-        """Records waiting for their execution."""
-        return len(self._pending.items)
+        """Episodes not finished (executing, or waiting for a replan)."""
+        return len(self._live)
 
     def running(self) -> int:
         """Executions running now (the rest of those in flight are queued)."""
-        return self._pending.running()
+        return self._running.running()
 
-    def submit(self, episode: Episode, record: EpisodeRecord) -> EpisodeRecord | None:
-        """Send ``record``'s plan to the pool; the record itself, with no execution, where it
-        has no usable plan (it is finished), else None (it comes back from :meth:`collect`)."""
-        steps = record_plan(record)
-        if steps is None:
-            return record.model_copy(update={"execution": None})
-        job = ExecutionJob(episode.task_id, episode.seed, self.config, tuple(steps))
-        if self._pending.add(record, job):
-            self.stats.executed += 1
+    def submit(
+        self, episode: Episode, record: EpisodeRecord, request: GenerationRequest | None = None
+    ) -> EpisodeRecord | None:
+        """Start an episode from round 0's scored record (and its request, the first turn of a
+        replan's conversation); the finished record where it has no plan to execute, else
+        None (it comes back from :meth:`collect` or :meth:`answer`)."""
         self.stats.submitted += 1
-        self._changed()
+        if self.closed:
+            machine = RoundMachine.closed(self.config.loop_config(), len(episode.gt_plan))
+        else:
+            machine = RoundMachine()
+        conversation = Conversation(self.config.history)
+        conversation.add(request, record.raw_output, record.prompt_hash)
+        first = record.model_copy(update={"execution": None})
+        live = _Live(episode, first, machine, conversation)
+        self._live[record.key] = live
+        action = machine.start(record_plan(record))
+        if isinstance(action, Done):
+            self.stats.finished += 1
+            return self._finish(live, action)
+        self._send(record.key, live, action)
         return None
 
+    def requests(self) -> list[tuple[str, ReplanRequest]]:
+        """The replans waiting for an answer, by episode key (each handed out once)."""
+        asks, self._asks = self._asks, []
+        return asks
+
+    def episode(self, key: str) -> Episode:
+        """The episode of a record in flight."""
+        return self._live[key].episode
+
+    def variant(self, key: str) -> InstructionVariant:
+        """The instruction variant of a record in flight."""
+        return self._live[key].first.variant
+
+    def conversation(self, key: str) -> Conversation:
+        """The answered rounds of an episode in flight (a replan's request carries them)."""
+        return self._live[key].conversation
+
+    def answer(
+        self, ask: Ask, response: CachedResponse, parse: ParseResult, cached: bool
+    ) -> EpisodeRecord | None:
+        """Execute a replan's answer (``parse``: its parse); the finished record where it ends
+        the episode."""
+        live = self._live[ask.key]
+        assert live.replan is not None  # set with the ask
+        live.conversation.add(ask.request, response.text, ask.prompt_hash)
+        action = live.machine.answered(parse.valid_steps() if parse.usable else None)
+        steps = action.steps if isinstance(action, Execute) else ()
+        live.rounds.append(
+            RoundRecord(
+                round=live.replan.round,
+                prompt_hash=ask.prompt_hash,
+                feedback=live.replan.feedback,
+                raw_output=response.text,
+                parse=parse,
+                plan=plan_to_json(list(steps)),
+                truncated=action.truncated if isinstance(action, Execute) else 0,
+                latency_s=response.latency_s,
+                prompt_tokens=response.prompt_tokens,
+                completion_tokens=response.completion_tokens,
+                finish_reason=response.finish_reason,
+                cached=cached,
+            )
+        )
+        if isinstance(action, Done):
+            return self._finish(live, action)
+        self._send(ask.key, live, action)
+        return None
+
+    def fail(self, ask: Ask, error: str, latency_s: float = 0.0) -> EpisodeRecord:
+        """The error record of an episode whose replan the backend failed to answer (a resume
+        runs it again from round 0, its answers so far from the cache)."""
+        live = self._live.pop(ask.key)
+        self._changed()
+        return live.first.model_copy(
+            update={
+                "raw_output": "",
+                "parse": None,
+                "plan": None,
+                "scores": None,
+                "execution": None,
+                "error_tags": ("backend_error",),
+                "backend_error": f"round {len(live.rounds) + 1}: {error}",
+                "latency_s": latency_s,
+                "status": "error",
+            }
+        )
+
     def collect(self, block: bool = False, timeout: float | None = None) -> list[EpisodeRecord]:
-        """Records whose executions finished (with ``block``, waits for at least one while any
-        is in flight, or ``timeout`` seconds)."""
+        """Records of episodes that ended (``block``: wait for an execution to finish, or
+        ``timeout`` seconds)."""
         if block:
-            self._pending.wait(timeout)
-        out = [self._finish(p) for p in self._pending.finished()]
-        if out:
-            self.stats.finished += len(out)
+            self._running.wait(timeout)
+        out: list[EpisodeRecord] = []
+        for done in self._running.finished():
+            try:
+                executed = done.future.result()
+            # The executor's own exceptions come back as crash outcomes (execute_job): what
+            # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
+            except Exception as exc:  # noqa: BLE001  (an execution failure must not kill a run)
+                out.append(self._lost(done.owner, f"{type(exc).__name__}: {exc}"))
+                continue
+            record = self._advance(done.owner, executed)
+            if record is not None:
+                out.append(record)
+        self.stats.finished += len(out)
         self._changed()
         return out
 
     def drain(self) -> Iterator[EpisodeRecord]:
-        """Every remaining record, as executions finish."""
-        while self._pending.items:
+        """Records as episodes end, while none waits for a replan's answer."""
+        while self._running.items:
             yield from self.collect(block=True)
 
     def close(self, cancel: bool = False) -> None:
         """Free the pool (``cancel``: drop the executions in flight, e.g. on Ctrl-C)."""
         self.pool.close(cancel=cancel)
 
-    def _finish(self, p: Pending[EpisodeRecord, ExecutionJob, Executed]) -> EpisodeRecord:
-        try:
-            summary, crash = p.future.result()
-        # The executor's own exceptions come back as crash summaries (PlanExecutor.execute): what
-        # the future raises is the infrastructure's (a dead worker or node, Ray giving up).
-        except Exception as exc:  # noqa: BLE001  (an execution failure must not kill the run)
-            self.stats.lost += 1
-            return lost_record(p.owner, f"{type(exc).__name__}: {exc}")
-        if crash is not None:
-            self._crashed(p.owner.key, crash)
-        return p.owner.model_copy(update={"execution": summary})
+    # ---- internals --------------------------------------------------------------------
+    def _send(self, key: str, live: _Live, action: Execute) -> None:
+        live.plans.append(action.steps)
+        more = len(live.plans) <= live.machine.max_replans  # a replan may follow this round
+        ep = live.episode
+        job = ExecutionJob(
+            ep.task_id,
+            ep.seed,
+            self.executor,
+            tuple(live.plans),
+            self.view if more else None,
+            live.frozen,
+        )
+        live.frozen = None  # the job holds it while it runs
+        if self._running.add(key, job):
+            self.stats.executed += 1
+        self._changed()
+
+    def _lost(self, key: str, reason: str) -> EpisodeRecord:
+        """The episode's record as one a resume runs again (its execution was lost)."""
+        self.stats.lost += 1
+        live = self._live.pop(key)
+        self._changed()
+        return lost_record(live.first, reason)
+
+    def _advance(self, key: str, executed: Executed) -> EpisodeRecord | None:
+        live = self._live[key]
+        outcome = executed.outcomes[-1]
+        if executed.crash is not None:
+            self.stats.crashes += 1
+            if len(self.stats.crash_messages) < 5:
+                self.stats.crash_messages.append(f"{key}: {executed.crash}")
+        live.frozen = executed.frozen
+        if live.rounds:
+            live.rounds[-1] = live.rounds[-1].model_copy(update={"execution": outcome.execution})
+        else:
+            live.first = live.first.model_copy(update={"execution": outcome.execution})
+        action = live.machine.executed_round(outcome)
+        if isinstance(action, Done):
+            return self._finish(live, action)
+        if executed.state is None:  # a replan without the state it plans from cannot be asked
+            raise RuntimeError(f"{key}: round {len(live.plans) - 1} left no state to replan from")
+        live.replan = ReplanRequest(action.feedback, executed.state)
+        self._asks.append((key, live.replan))
+        return None
+
+    def _finish(self, live: _Live, done: Done) -> EpisodeRecord:
+        self._live.pop(live.first.key, None)
+        self._changed()
+        if not self.closed:
+            return live.first
+        return live.first.model_copy(update={"rounds": tuple(live.rounds), "loop": done.outcome})
 
     def _changed(self) -> None:
         if self._notify is not None:
             running = self.running()
-            in_flight = self._pending.distinct()
+            in_flight = self._running.distinct()
             s = self.stats
             self._notify(s.submitted, s.finished, running, in_flight - running)
-
-    def _crashed(self, key: str, message: str) -> None:
-        self.stats.crashes += 1
-        if len(self.stats.crash_messages) < 5:
-            self.stats.crash_messages.append(f"{key}: {message}")
 
 
 def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:

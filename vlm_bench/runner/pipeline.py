@@ -19,18 +19,21 @@ from dataclasses import dataclass, field
 from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import VlmBenchError
+from vlm_bench.parsing import parse_plan
+from vlm_bench.rounds.replan_prompt import replan_generation_request
+from vlm_bench.rounds.state import ReplanRequest
 from vlm_bench.runner.cached_snapshots import SnapshotSource
 from vlm_bench.runner.episode_request import episode_request
 from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
-from vlm_bench.runner.executions import Executions
+from vlm_bench.runner.executions import Ask, Executions
 from vlm_bench.runner.interrupt import StopFlag
-from vlm_bench.runner.loop_executions import Ask, LoopExecutions
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import GenerationRequest, GenerationResult
+from vlm_bench.types.parse import ParseResult
 from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
 from vlm_bench.types.run import RunConfig
 
@@ -92,7 +95,7 @@ class EpisodePipeline:
         snapshots: SnapshotSource,
         progress: RunProgress | None = None,
         stop: StopFlag | None = None,
-        executions: Executions | LoopExecutions | None = None,
+        executions: Executions | None = None,
         sees_images: bool = True,
     ) -> None:
         """Set up the pipeline of one run.
@@ -107,9 +110,9 @@ class EpisodePipeline:
             stop: Checked between batches and executions; a requested stop raises
                 ``KeyboardInterrupt`` after the finished episodes are written (executions in
                 flight are dropped: a resume runs them again).
-            executions: Where plans execute, when the run executes plans (the pipeline closes
-                it): closed-loop episodes replan through it; None = the run does not
-                execute plans.
+            executions: Where episodes execute, when the run executes plans (the pipeline
+                closes it): the replans it asks for are generated here; None = the run does
+                not execute plans.
             sees_images: The backend reads images; False: no views are rendered and its
                 requests carry none (prompt hashes and records are the same either way).
         """
@@ -161,13 +164,13 @@ class EpisodePipeline:
         self.stats.exec_crash_messages = list(r.crash_messages)
 
     def _run_replans(self) -> None:
-        """Generate the replans closed-loop episodes wait for (answers cached first, keyed by
-        each round's prompt hash) and send them on; a failed generation writes the episode's
-        error record (a resume runs it again)."""
+        """Generate the replans episodes wait for (answers cached first, keyed by each round's
+        prompt hash and the conversation before it) and send them on; a failed generation
+        writes the episode's error record (a resume runs it again)."""
         executions = self.executions
-        if not isinstance(executions, LoopExecutions):
+        if executions is None:
             return
-        asks = executions.requests()
+        asks = [self._ask(executions, key, replan) for key, replan in executions.requests()]
         for start in range(0, len(asks), self.config.generation.batch_size):
             self.stop.check()
             chunk = asks[start : start + self.config.generation.batch_size]
@@ -178,13 +181,26 @@ class EpisodePipeline:
                 if record is not None:
                     self._write(record)
 
+    def _ask(self, executions: Executions, key: str, replan: ReplanRequest) -> Ask:
+        episode = executions.episode(key)
+        request, prompt_hash = replan_generation_request(
+            key,
+            episode,
+            replan,
+            self.config.prompt_config(executions.variant(key)),
+            executions.conversation(key),
+            constrained=self.config.generation.constrained,
+            show_images=bool(executions.view.views),
+        )
+        return Ask(key, prompt_hash, request)
+
     def _answer(
-        self, executions: LoopExecutions, ask: Ask, results: dict[str, GenerationResult]
+        self, executions: Executions, ask: Ask, results: dict[str, GenerationResult]
     ) -> EpisodeRecord | None:
         cached = self.store.cached_response(ask.key, ask.prompt_hash)
         if cached is not None:
             self.stats.cached += 1
-            return executions.answer(ask, cached, cached=True)
+            return executions.answer(ask, cached, self._parse(executions, ask, cached), True)
         result = results[ask.request.id]
         if result.error is not None:
             self.stats.errors += 1
@@ -198,7 +214,11 @@ class EpisodePipeline:
             **usage_of(result),
         )
         self.store.append_response(response)
-        return executions.answer(ask, response, cached=False)
+        return executions.answer(ask, response, self._parse(executions, ask, response), False)
+
+    @staticmethod
+    def _parse(executions: Executions, ask: Ask, response: CachedResponse) -> ParseResult:
+        return parse_plan(response.text, executions.episode(ask.key).object_ids())
 
     def _write(self, record: EpisodeRecord) -> None:
         self.store.append_record(record)
@@ -274,11 +294,7 @@ class EpisodePipeline:
                 self.stats.scored += 1
                 if self.executions is not None:
                     self.stop.check()
-                    finished = (
-                        self.executions.submit(p.episode, record, p.request)
-                        if isinstance(self.executions, LoopExecutions)
-                        else self.executions.submit(p.episode, record)
-                    )
+                    finished = self.executions.submit(p.episode, record, p.request)
                     if finished is None:
                         continue  # written when its execution finishes
                     record = finished

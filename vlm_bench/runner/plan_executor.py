@@ -19,6 +19,7 @@ from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.records import EpisodeRecord
 
 if TYPE_CHECKING:
+    from vlm_bench.executor.live_episode import LiveEpisode
     from vlm_bench.sim.scene import Scene
 
 CRASH_PREFIX = "executor raised"
@@ -61,24 +62,28 @@ class PlanExecutor:
 
     def scene(self, episode: Episode) -> Scene:
         """A fresh copy of the episode's start scene (the executor modifies the scene it runs)."""
-        from vlm_bench.executor.plan_execution import episode_scene
+        from vlm_bench.executor.step_execution import episode_scene
 
         key = (episode.task_id, episode.seed)
         if self._template is None or self._template[0] != key:
             self._template = (key, episode_scene(episode, self.config))
         return self._template[1].copy()
 
+    def live(self, episode: Episode) -> LiveEpisode:
+        """A live episode on a fresh copy of the episode's start scene."""
+        from vlm_bench.executor.live_episode import LiveEpisode
+
+        return LiveEpisode(episode, self.config, self.scene(episode))
+
     def execute(
         self, episode: Episode, steps: list[UavStep | ArmStep]
     ) -> tuple[ExecutionSummary, str | None]:
         """Execute ``steps`` on the episode: the summary and, where the executor raised, the
         message (an exception becomes a failed summary)."""
-        from vlm_bench import executor
-
         start = time.perf_counter()
         self.executed += 1
         try:
-            result = executor.execute_plan(episode, steps, self.config, self.scene(episode))
+            result = self.live(episode).execute(steps)
             summary = ExecutionSummary.of(result)  # rejects a non-finite number
         except Exception as exc:  # noqa: BLE001  (an executor bug must not kill a long run)
             summary = crash_summary(exc, time.perf_counter() - start)

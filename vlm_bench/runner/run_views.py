@@ -60,7 +60,8 @@ class RunViews:
         allowed or the record has no such round."""
         from vlm_bench.episodes import get_episode
         from vlm_bench.parsing import parse_plan
-        from vlm_bench.runner.loop_jobs import LoopJob, StateRequest, execute_rounds
+        from vlm_bench.rounds.state import StateView
+        from vlm_bench.runner.execution_jobs import ExecutionJob, execute_job
         from vlm_bench.runner.plan_executor import record_plan
 
         first = record_plan(record)
@@ -72,10 +73,10 @@ class RunViews:
             steps = parse_plan(row.raw_output, ids).valid_steps() if row.parse is not None else []
             plans.append(tuple(steps[: len(row.plan or ())]))
         config = self.config
-        state = StateRequest(VIEWS, config.resolution, config.labels)
+        state = StateView(VIEWS, config.resolution, config.labels)
         rounds = tuple(plans[:round_index])
-        job = LoopJob(record.task_id, record.seed, config.executor_config(), rounds, state)
-        shown = execute_rounds(job).state
+        job = ExecutionJob(record.task_id, record.seed, config.executor_config(), rounds, state)
+        shown = execute_job(job).state
         return dict(shown.images) if shown is not None else {}
 
     def close(self) -> None:

@@ -102,7 +102,8 @@ def execute_task_plan(
         MissingExtraError: MP4 without the ``video`` extra.
     """
     from vlm_bench.executor.goals import describe_goal
-    from vlm_bench.executor.plan_execution import episode_scene, execute_plan
+    from vlm_bench.executor.live_episode import execute_plan
+    from vlm_bench.executor.step_execution import episode_scene
     from vlm_bench.executor.video import VideoRecorder
 
     if uav_noise < 0:

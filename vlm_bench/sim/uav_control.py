@@ -109,7 +109,7 @@ class UavController:
 
     def __getstate__(self) -> dict[str, object]:
         """Pickled without the views into MjData: a pickle copies a view, which then no longer
-        follows the data (they are made again on first use, executor/live_snapshot.py)."""
+        follows the data (they are made again on first use, executor/frozen_episode.py)."""
         return {**self.__dict__, "_data_views": None}
 
     def set_setpoint(self, pos: Sequence[float] | Array, yaw_deg: float) -> None:

@@ -12,7 +12,7 @@ from pydantic import Field
 
 from vlm_bench.types.base import FiniteFrozen
 from vlm_bench.types.closed_loop import Feedback
-from vlm_bench.types.execution import ExecutionSummary
+from vlm_bench.types.execution import ExecutionSummary, FailureCode
 from vlm_bench.types.parse import ParseResult
 
 LoopEnd = Literal["success", "max_rounds", "budget", "no_plan", "executor_crash"]
@@ -57,3 +57,23 @@ class LoopOutcome(FiniteFrozen):
     steps_executed: int = Field(ge=0, description="Steps run (ok or failed), all rounds.")
     budget: int = Field(ge=1, description="The episode's step budget.")
     end: LoopEnd = Field(description="Why the episode ended.")
+
+
+class StepFailure(FiniteFrozen):
+    """The step that failed in a round, as the executor typed it (never read back from text)."""
+
+    index: int = Field(ge=0, description="The step's index in its round's plan.")
+    code: FailureCode = Field(description="The kind of failure.")
+    detail: str = Field(description="One-line failure detail (no step prefix).")
+
+
+class RoundOutcome(FiniteFrozen):
+    """What a round's execution tells the round machine."""
+
+    execution: ExecutionSummary = Field(description="The round's execution, as recorded.")
+    failed_step: StepFailure | None = Field(
+        default=None, description="The step that failed (None: every step ran, or a crash)."
+    )
+    held: str | None = Field(default=None, description="What the gripper holds after it.")
+    crashed: bool = Field(default=False, description="The executor raised.")
+

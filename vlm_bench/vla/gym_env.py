@@ -27,8 +27,8 @@ from pydantic import Field, ValidationError
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError, MissingExtraError, UnknownNameError, first_problem
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.plan_execution import episode_scene
 from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
+from vlm_bench.executor.step_execution import episode_scene
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAMERAS
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.sim.snapshot_render import check_views

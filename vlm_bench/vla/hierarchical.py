@@ -25,8 +25,8 @@ from numpy.typing import NDArray
 from vlm_bench.catalog.skills import arm_skill_names
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.errors import ConfigError
-from vlm_bench.executor.plan_execution import SkillFactory
 from vlm_bench.executor.sim_loop import SimLoop, Skill
+from vlm_bench.executor.step_execution import SkillFactory
 from vlm_bench.sim.constants import CAMERAS, CONTROL_DT, LEFT_FINGER_BODY, RIGHT_FINGER_BODY
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import SnapshotRenderer
@@ -135,7 +135,7 @@ def policy_skills(
     skills: Collection[str] | None = None,
     renderer: SnapshotRenderer | None = None,
 ) -> SkillFactory:
-    """ARM skills for :func:`~vlm_bench.executor.plan_execution.execute_plan` driven by ``policy``.
+    """ARM skills for :func:`~vlm_bench.executor.live_episode.execute_plan` driven by ``policy``.
 
     Args:
         policy: Called every control step of every ARM step.

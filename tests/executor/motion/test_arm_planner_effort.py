@@ -11,13 +11,14 @@ import pytest
 from incidents import incident_episode
 
 from vlm_bench.episodes import get_episode
+from vlm_bench.executor.live_episode import execute_plan
 from vlm_bench.executor.motion.arm_core import ArmCore
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionChecker, CollisionQuery
-from vlm_bench.executor.plan_execution import PlanExecution, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
+from vlm_bench.executor.step_execution import PlanExecution
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.sim.scene import build_scene

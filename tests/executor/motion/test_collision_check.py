@@ -19,7 +19,7 @@ from vlm_bench.executor.motion.collision_check import (
 )
 from vlm_bench.executor.motion.contact_filter import robot_only_collisions
 from vlm_bench.executor.motion.ik import ArmIk
-from vlm_bench.executor.plan_execution import episode_scene
+from vlm_bench.executor.step_execution import episode_scene
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.objects.builder_kit import free_joint_name

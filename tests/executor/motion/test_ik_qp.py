@@ -9,7 +9,7 @@ import numpy as np
 
 from vlm_bench.episodes import get_episode
 from vlm_bench.executor.motion.ik import DAMPING, DT, TOP_DOWN_SEED, ArmIk, top_down_rotation
-from vlm_bench.executor.plan_execution import episode_scene
+from vlm_bench.executor.step_execution import episode_scene
 from vlm_bench.sim.constants import TCP_SITE
 from vlm_bench.types.execution import ExecutorConfig
 

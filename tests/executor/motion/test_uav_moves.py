@@ -11,11 +11,12 @@ import pytest
 
 from vlm_bench.episodes import get_episode
 from vlm_bench.episodes.gt_builder import DRAWER_PULL
+from vlm_bench.executor.live_episode import execute_plan
 from vlm_bench.executor.motion.uav_moves import move_target
-from vlm_bench.executor.plan_execution import execute_move, execute_plan, next_arm_step
 from vlm_bench.executor.references import Reference, StepReferences
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.grasping import grasp_skills
+from vlm_bench.executor.step_execution import execute_move, next_arm_step
 from vlm_bench.sim.constants import part_joint
 from vlm_bench.sim.scene import build_scene
 from vlm_bench.types.geometry import APPROACH

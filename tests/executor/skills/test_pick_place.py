@@ -11,16 +11,17 @@ from incidents import incident_episode
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes import get_episode
 from vlm_bench.executor.goals import check_goals
+from vlm_bench.executor.live_episode import execute_plan
 from vlm_bench.executor.motion import arm_core as arm_core_module
 from vlm_bench.executor.motion.arm_planner import MAX_ASSIST, WORK_RADII
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.lines import ArmLines
-from vlm_bench.executor.plan_execution import PlanExecution, execute_plan
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.executor.skills.grasping import GRASP_DESCENT, GRASP_TURN_ROOM, PRE_GRASP, Picker
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
+from vlm_bench.executor.step_execution import PlanExecution
 from vlm_bench.sim import constants as c
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.robot import arm_qpos

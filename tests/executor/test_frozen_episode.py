@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from vlm_bench.episodes import get_episode
+from vlm_bench.executor.frozen_episode import freeze, thaw
 from vlm_bench.executor.live_episode import LiveEpisode
-from vlm_bench.executor.live_snapshot import freeze, thaw
 from vlm_bench.executor.live_state import episode_now
 from vlm_bench.sim.scene import build_spec
 from vlm_bench.types.closed_loop import PerturbConfig

@@ -1,4 +1,5 @@
-"""A live episode frozen to bytes and thawed again, to continue exactly where it stopped.
+"""A frozen episode: a live episode frozen to bytes and thawed again, to continue exactly where
+it stopped (distinct from the cached PNG views of an episode).
 
 A closed-loop replan continues the simulation its last round left. :func:`freeze` writes the
 whole :class:`~vlm_bench.executor.live_episode.LiveEpisode` object graph (the simulator's
@@ -6,7 +7,7 @@ whole :class:`~vlm_bench.executor.live_episode.LiveEpisode` object graph (the si
 planner caches, the perturbations' random streams, what the robot believes it holds) with
 cloudpickle, which also takes the skills' closures; :func:`thaw` in any process gives a live
 episode whose next :meth:`~vlm_bench.executor.live_episode.LiveEpisode.execute` returns what
-the original's would, bit for bit (tests/executor/test_live_snapshot.py).
+the original's would, bit for bit (tests/executor/test_frozen_episode.py).
 
 Two pieces are not plain pickles:
 
