@@ -137,6 +137,7 @@ def run(
         ConfigError: Invalid options. RunLockedError / ConfigMismatchError: see the CLI docs.
     """
     from vlm_bench.report import write_summary
+    from vlm_bench.report.results_file import write_results
     from vlm_bench.runner import run_benchmark
 
     if config is None:
@@ -163,6 +164,7 @@ def run(
         execution=execution,
     )
     summary = write_summary(outcome.run_dir)
+    write_results(outcome.run_dir)
     return RunResult(outcome.run_dir, outcome.manifest, outcome.records, summary, outcome.stats)
 
 
@@ -176,10 +178,12 @@ def rescore(
     in its order) and the summary files.
     """
     from vlm_bench.report import write_summary
+    from vlm_bench.report.results_file import write_results
     from vlm_bench.runner import PipelineStats, rescore_run
 
     outcome = rescore_run(Path(run_dir), progress=progress, execution=execution)
     summary = write_summary(outcome.run_dir)
+    write_results(outcome.run_dir)
     stats = PipelineStats(
         total=len(outcome.records),
         executed=outcome.executed,

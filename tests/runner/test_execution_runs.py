@@ -91,6 +91,7 @@ def test_run_records_executions_and_summary_columns(tmp_path: Path) -> None:
         "n_error",
         "n_executed",
         "missing_groups",
+        "protocol",
     ]
     explicit, implicit = _row(summary, "explicit"), _row(summary, "implicit")
     assert explicit.exec_success == 100.0 * hop.execution.exec_success
@@ -111,7 +112,7 @@ def test_no_execute_keeps_todays_records_and_columns(tmp_path: Path) -> None:
     assert all(r.execution is None for r in result.records)
     assert result.stats.executed == 0
     summary = pd.read_csv(tmp_path / "run" / "summary.csv")
-    assert list(summary.columns) == list(SUMMARY_COLUMNS)
+    assert list(summary.columns) == [*SUMMARY_COLUMNS, "protocol"]
     assert "Exec" not in (tmp_path / "run" / "summary.md").read_text()
     assert "exec_success" not in result.summary.columns
 

@@ -46,30 +46,25 @@ CLI_FIELDS = {
 """``vlm-bench run`` parameters → the RunConfig fields they set."""
 
 
-def given_fields() -> set[str]:
-    """The RunConfig fields whose options the current command line (or environment) set."""
-    import click
-
-    context = click.get_current_context(silent=True)
-    if context is None:
-        return set()
-    sources = (click.core.ParameterSource.COMMANDLINE, click.core.ParameterSource.ENVIRONMENT)
+def given_fields(context: typer.Context) -> set[str]:
+    """The RunConfig fields whose options the command line (or environment) set."""
     given = {
         field
         for param, field in CLI_FIELDS.items()
-        if context.get_parameter_source(param) in sources
+        if getattr(context.get_parameter_source(param), "name", "")
+        in ("COMMANDLINE", "ENVIRONMENT")
     }
     if "perturb" in given:
         given.add("uav_noise")  # --perturb gust=N sets it
     return given
 
 
-def apply_protocol(config: RunConfig, name: str | None) -> RunConfig:
+def apply_protocol(config: RunConfig, name: str | None, context: typer.Context) -> RunConfig:
     """``config`` under ``--protocol`` (unchanged without it); see
     :func:`vlm_bench.types.protocol_match.with_protocol`."""
     from vlm_bench.types.protocol_match import with_protocol
 
-    return with_protocol(config, name, given_fields())
+    return with_protocol(config, name, given_fields(context))
 
 
 def protocol_line(mark: ProtocolMark) -> str:

@@ -94,6 +94,12 @@ def report(
     from vlm_bench.report.make import build_report, render_tables, warnings, write_outputs
     from vlm_bench.report.names import parse_labels
     from vlm_bench.report.report_options import report_options
+    from vlm_bench.report.results_table import print_results_files, standalone_results
+
+    files = standalone_results(runs)
+    if files:  # results.json files on their own: their summary table
+        print_results_files(files, format, out)
+        return
 
     options = report_options(
         runs=tuple(runs),
@@ -158,6 +164,7 @@ def _warn_torn(runs: tuple[str, ...]) -> None:
 
 
 def _print_terminal(result: Report, target: Console) -> None:
+    from vlm_bench.report.protocol_notes import protocol_note, protocol_warnings
     from vlm_bench.report.tables import summary_rich
     from vlm_bench.report.text import frame_rich
 
@@ -165,6 +172,9 @@ def _print_terminal(result: Report, target: Console) -> None:
     for g in result.groupings:
         title = "Our four suites" if g.name == "suites" else "The paper's three columns"
         target.print(summary_rich(result.tables[g.name], by, title, target.width, g))
+    target.print(protocol_note(result.frame), highlight=False)
+    for warning in protocol_warnings(result.frame, by):
+        target.print(f"[yellow]Warning. {warning}[/]", highlight=False)
     for section in result.sections:
         table = frame_rich(section.frame, section.title, section.caption, section.numeric)
         if section.narrow is not None and _width(target, table) > target.width:

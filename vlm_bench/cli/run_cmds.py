@@ -166,6 +166,7 @@ def _print_summary(result: RunResult) -> None:
 
 
 def run(
+    ctx: typer.Context,
     model: Annotated[
         str,
         typer.Option(
@@ -284,7 +285,7 @@ def run(
         history=history,
         perturb=perturbations,
     )
-    config = apply_protocol(config, protocol)
+    config = apply_protocol(config, protocol, ctx)
     execution = execution_options(exec_workers, exec_backend, ray_address, exec_stall_s)
     run_dir = run_dir_for(config, out, run_name)
     try:

@@ -109,6 +109,7 @@ def summary_latex(
     label: str = "tab:vlm_planning",
     names: Mapping[tuple[object, ...], str] | None = None,
     fit_width: bool = False,
+    note: str = "",
 ) -> str:
     """A ``table*`` float in the paper layout (see the module docstring).
 
@@ -119,6 +120,7 @@ def summary_latex(
         names: Display name per system (:func:`~vlm_bench.report.names.display_names`);
             default the ``by`` values joined by '/'.
         fit_width: Scale the tabular to the text width (default: natural size).
+        note: Text appended to the caption (the runs' protocol).
     """
     keys = by_columns(by)
     names = names or {}
@@ -165,7 +167,7 @@ def summary_latex(
     lines = [
         r"\begin{table*}[t]",
         r"\centering",
-        rf"\caption{{{caption or _default_caption(long, grouping)}}}",
+        rf"\caption{{{_caption_with(caption or _default_caption(long, grouping), note)}}}",
         rf"\label{{{label}}}",
         _SIZE,
         *([r"\resizebox{\textwidth}{!}{%"] if fit_width else []),
@@ -214,6 +216,12 @@ def summary_latex(
         lines.append(r"\par\smallskip\footnotesize " + escape(warning).replace("†", _PARTIAL))
     lines.append(r"\end{table*}")
     return "\n".join(lines) + "\n"
+
+
+def _caption_with(caption: str, note: str) -> str:
+    if not note.strip():
+        return caption
+    return f"{caption} {escape(note)}"
 
 
 def _default_caption(long: pd.DataFrame, grouping: Grouping) -> str:

@@ -20,7 +20,9 @@ from vlm_bench.report.groups import paper_grouping
 from vlm_bench.storage import RunPaths, latest_records, read_manifest
 from vlm_bench.types.benchmark_version import check_one_version
 from vlm_bench.types.plan import Direction
+from vlm_bench.types.protocol_match import manifest_protocol
 from vlm_bench.types.records import EpisodeRecord
+from vlm_bench.types.results import RESULTS_FILE
 from vlm_bench.types.run import RunManifest
 
 SETTINGS = (
@@ -43,8 +45,10 @@ SETTINGS = (
     "benchmark_version",
     "config_hash",
     "git_revision",
+    "protocol",
 )
-"""Run settings from the manifest, one column each (``views`` joined by commas)."""
+"""Run settings from the manifest, one column each (``views`` joined by commas; ``protocol``
+is the run's stated protocol: paper, closed or custom, docs/protocols.md)."""
 
 DERIVED = (
     "run",
@@ -87,7 +91,9 @@ def resolve_runs(patterns: Iterable[str | Path]) -> list[Path]:
                 raise ConfigError(f"no run folder matches {text!r}")
         else:
             path = Path(text)
-            if path.is_file():
+            if path.name == RESULTS_FILE and RunPaths(path.parent).manifest.exists():
+                path = path.parent  # a run folder's results.json stands for the folder
+            elif path.is_file():
                 continue  # a shell-expanded glob also names files (results/README.md)
             if not path.is_dir():
                 raise ConfigError(f"run folder {text!r} does not exist")
@@ -137,6 +143,7 @@ def settings_of(manifest: RunManifest) -> dict[str, Any]:
         "benchmark_version": config.benchmark_version,
         "config_hash": manifest.config_hash[:8],
         "git_revision": manifest.git_revision or "",
+        "protocol": manifest_protocol(manifest).name,
     }
 
 

@@ -30,6 +30,7 @@ from vlm_bench.report.load import load
 from vlm_bench.report.marks import partial_warnings
 from vlm_bench.report.names import display_names
 from vlm_bench.report.paired import find_system, paired_table
+from vlm_bench.report.protocol_notes import protocol_note, protocol_warnings, row_protocols
 from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
 from vlm_bench.report.summary import (
@@ -210,7 +211,8 @@ def _add_paired(report: Report, name: str) -> None:
 
 def long_with_cis(report: Report) -> pd.DataFrame:
     """Every grouping's long summary stacked (``grouping``, ``group`` columns), with
-    ``<metric>_lo``/``_hi`` interval columns where intervals were computed."""
+    ``<metric>_lo``/``_hi`` interval columns where intervals were computed and each row's
+    ``protocol`` (its runs' protocols joined by ``+``)."""
     by = list(report.options.by)
     parts = []
     for g in report.groupings:
@@ -230,17 +232,15 @@ def long_with_cis(report: Report) -> pd.DataFrame:
             long = long.merge(bounds.reset_index(), on=[*by, "instruction", "group"], how="left")
         parts.append(long.assign(grouping=g.name))
     out = pd.concat(parts, ignore_index=True)
+    out = out.merge(row_protocols(report.frame, by), on=by, how="left")
     return out[["grouping", *[c for c in out.columns if c != "grouping"]]]
 
 
 def warnings(report: Report) -> list[str]:
-    """What a reader must know beside the numbers: partial Overalls, per grouping."""
+    """What a reader must know beside the numbers: mixed protocols, partial Overalls."""
     by = list(report.options.by)
-    return list(
-        dict.fromkeys(
-            w for g in report.groupings for w in partial_warnings(report.tables[g.name], by, g)
-        )
-    )
+    partial = [w for g in report.groupings for w in partial_warnings(report.tables[g.name], by, g)]
+    return list(dict.fromkeys([*protocol_warnings(report.frame, by), *partial]))
 
 
 def render_tables(report: Report) -> str | bytes:
@@ -261,12 +261,14 @@ def render_tables(report: Report) -> str | bytes:
                 label=f"tab:vlm_planning_{g.name}",
                 names=names,
                 fit_width=options.fit_width,
+                note=" ".join([protocol_note(report.frame), *protocol_warnings(report.frame, by)]),
             )
             for g in report.groupings
         ]
         text = "\n".join(floats)
         return latex_document(text) if options.standalone else text
-    parts = ["# vlm-bench report\n"]
+    parts = ["# vlm-bench report\n", protocol_note(report.frame) + "\n"]
+    parts.extend(f"**Warning.** {w}\n" for w in protocol_warnings(report.frame, by))
     for g in report.groupings:
         title = "Our four suites" if g.name == "suites" else "The paper's three columns"
         parts.append(f"## {title}\n\n" + summary_markdown(report.tables[g.name], by, g))

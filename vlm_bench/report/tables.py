@@ -22,8 +22,9 @@ from vlm_bench.report.summary import (
     summary_wide,
     table_values,
 )
-from vlm_bench.storage import RunPaths
+from vlm_bench.storage import NotARunError, RunPaths, read_manifest
 from vlm_bench.storage.jsonl import write_text_atomic
+from vlm_bench.types.protocol_match import manifest_protocol
 
 HEADERS = {
     "S_plan": "Plan",
@@ -214,13 +215,23 @@ def summary_rich(
 
 
 def write_summary(run_dir: Path, by: str = "model") -> pd.DataFrame:
-    """Write ``summary.md`` and ``summary.csv`` of a run folder from its records.
+    """Write ``summary.md`` and ``summary.csv`` of a run folder from its records, each with the
+    run's protocol (a ``protocol`` column last in the CSV).
 
     Returns:
         The long summary (:func:`vlm_bench.report.summary.summary_long`).
     """
     paths = RunPaths(run_dir)
     long = summary_long(load_records_frame(run_dir), by)
-    write_text_atomic(paths.summary_md, f"# {paths.run_id}\n\n" + summary_markdown(long, by))
-    write_text_atomic(paths.summary_csv, long.to_csv(index=False, float_format="%.4f"))
+    try:
+        protocol: str | None = manifest_protocol(read_manifest(paths)).label()
+    except NotARunError:  # records without a manifest: no protocol to state
+        protocol = None
+    head = f"# {paths.run_id}\n\n"
+    if protocol is not None:
+        head += f"Protocol: {protocol} (docs/protocols.md).\n\n"
+    write_text_atomic(paths.summary_md, head + summary_markdown(long, by))
+    shown = long if protocol is None else long.assign(protocol=protocol)
+    csv = shown.to_csv(index=False, float_format="%.4f")
+    write_text_atomic(paths.summary_csv, csv)
     return long

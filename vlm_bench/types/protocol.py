@@ -109,7 +109,6 @@ class ProtocolMark(Frozen):
         fraction = self.fraction
         if fraction is None or self.complete:
             return self.name
-        return (
-            f"{self.name} ({self.episodes:,} of {self.protocol_episodes:,} episodes, "
-            f"{100 * fraction:.0f}%)"
-        )
+        percent = 100 * fraction
+        shown = f"{percent:.0f}" if percent >= 10 or percent == int(percent) else f"{percent:.1f}"
+        return f"{self.name} ({self.episodes:,} of {self.protocol_episodes:,} episodes, {shown}%)"

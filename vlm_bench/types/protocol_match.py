@@ -11,7 +11,7 @@ from pydantic import BaseModel
 from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.protocol import CUSTOM, PROTOCOLS, ProtocolMark, ProtocolName, ProtocolSpec
-from vlm_bench.types.run import RunConfig, RunManifest, config_differences
+from vlm_bench.types.run import RunConfig, RunManifest, config_differences, run_config
 
 SELECTION = ("tasks", "suite", "seeds", "instructions")
 """Fields that choose episodes: under a protocol they may narrow its episode set."""
@@ -127,7 +127,7 @@ def with_protocol(config: RunConfig, name: str | None, given: Collection[str] = 
         if top in kept or top in SELECTION:
             continue
         update[top] = getattr(reference, top)
-    resolved = RunConfig(**{**config.model_dump(), **update})
+    resolved = run_config(**{**config.model_dump(), **update})
     wrong = differences(resolved, spec)
     if wrong:
         field = wrong[0]
