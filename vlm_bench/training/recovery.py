@@ -43,7 +43,7 @@ class FailedRound:
     digest: str
     """The simulator state's digest."""
     answer: Steps
-    """The rules planner's replan (truncated to the step budget left, as a run executes it)."""
+    """The rules planner's replan, whole (a run executes it cut to the step budget left)."""
 
 
 @dataclass(frozen=True)
@@ -129,8 +129,8 @@ def recover(episode: Episode, config: RunConfig) -> Recovery:
         answer = rules_replan(episode, now, feedback, digest)
         if answer is None:
             return Recovery(episode, tuple(failed), tuple(executions), "no_plan")
+        failed.append(FailedRound(feedback, now, images, digest, answer))
         plan = answer[: budget - len(executed)]
-        failed.append(FailedRound(feedback, now, images, digest, plan))
         live = thaw(frozen, build_spec(episode))
 
 

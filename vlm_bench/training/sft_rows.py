@@ -105,7 +105,7 @@ def replan_request(
 ) -> tuple[str, GenerationRequest]:
     """The cache key and request of a replan, as a closed-loop run builds them after
     ``failed`` with the conversation ``turns`` before it."""
-    images = failed.images if config.images else None
+    images = failed.images if config.images and failed.images else None
     prompt_config = config.prompt_config(ref.variant)
     prompt = build_replan_prompt(
         episode, failed.now, images, prompt_config, failed.feedback, failed.digest
@@ -125,9 +125,12 @@ def episode_examples(
     episode: Episode,
     images: dict[str, bytes] | None,
     recovery: Recovery | None = None,
+    *,
+    unrecovered: bool = False,
 ) -> Iterator[SftExample]:
     """The plan example of one episode and instruction variant, then (given the ``recovery``
-    of its perturbed execution, where it recovered) one replan example per failed round.
+    of its perturbed execution, where it recovered, or always with ``unrecovered``) one replan
+    example per failed round.
 
     Args:
         config: The export's prompt options (a run's).
@@ -139,7 +142,7 @@ def episode_examples(
     prompt, request = episode_request(config, ref, episode, images)
     answer = target_text(episode.gt_plan)
     yield _example(ref, episode, 0, request, answer, prompt.prompt_hash)
-    if recovery is None or not recovery.recovered:
+    if recovery is None or not (recovery.recovered or unrecovered):
         return
     turns: Turns = [(kept_request(request, config.history), answer, prompt.prompt_hash)]
     for failed in recovery.failed:
