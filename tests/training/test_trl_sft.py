@@ -38,6 +38,11 @@ def _tiny_vlms() -> ModuleType:
     return module
 
 
+def _load(folder: Path, cache: Path) -> Any:
+    """The export as ``datasets`` loads it (a cache of its own: tests reuse folder names)."""
+    return datasets.load_dataset(str(folder), split="train", cache_dir=str(cache))
+
+
 def _texts(rows: Any) -> list[str]:
     return [p["text"] for row in rows for m in row["messages"] for p in m["content"] if p["text"]]
 
@@ -57,7 +62,7 @@ def test_sft_trainer_trains_a_tiny_vlm_whose_checkpoint_vlm_bench_runs(
     import torch
     from trl import SFTConfig, SFTTrainer
 
-    rows = datasets.load_dataset(str(export), split="train")
+    rows = _load(export, tmp_path / "cache")
     assert len(rows) == 2
     tiny = _tiny_vlms()
     built = tiny._llava(_texts(rows) * 2)
@@ -98,7 +103,7 @@ def test_prompt_completion_form_trains_on_the_answer_only(export: Path, tmp_path
     computes the loss on the completion alone)."""
     from trl import SFTConfig, SFTTrainer
 
-    rows = datasets.load_dataset(str(export), split="train")
+    rows = _load(export, tmp_path / "cache")
     pairs = rows.map(
         lambda r: {"prompt": r["messages"][:-1], "completion": r["messages"][-1:]},
         remove_columns=["messages"],
