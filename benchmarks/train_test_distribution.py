@@ -18,25 +18,21 @@ test episodes (seeds 0-9), and prints, as Markdown:
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from collections import Counter
 from collections.abc import Iterable
 from concurrent.futures import ProcessPoolExecutor
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from vlm_bench.backends.blind_planner import Moves, segments  # noqa: E402
-from vlm_bench.catalog.tasks import all_tasks, get_task  # noqa: E402
-from vlm_bench.episodes.train_split import (  # noqa: E402
+from vlm_bench.backends.blind_planner import Moves, segments
+from vlm_bench.catalog.tasks import all_tasks, get_task
+from vlm_bench.episodes.train_split import (
     TEST_SEEDS,
     TOLERANCE,
     nearest_test,
     test_episodes,
     train_episode,
 )
-from vlm_bench.types.episode import Episode  # noqa: E402
+from vlm_bench.types.episode import Episode
 
 Features = dict[str, list[str]]
 
@@ -106,7 +102,9 @@ def main() -> None:
     train = _count(r[0] for r in results)
     closest = min(results, key=lambda r: r[1])
     repeats = [(r[3], r[2]) for r in results if r[2] is not None]
-    print(f"## Train seeds {args.seeds} against test seeds {TEST_SEEDS.start}-{TEST_SEEDS.stop - 1}")
+    print(
+        f"## Train seeds {args.seeds} against test seeds {TEST_SEEDS.start}-{TEST_SEEDS.stop - 1}"
+    )
     print()
     print(f"{len(tasks)} tasks: {len(jobs)} train episodes, {len(tasks) * len(TEST_SEEDS)} test.")
     print(f"Repeat tolerance: {TOLERANCE}.")

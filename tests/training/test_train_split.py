@@ -34,7 +34,7 @@ def _moved(episode: Episode, seed: int, dx: float = 0.0, dyaw: float = 0.0) -> E
 def test_seeds_0_to_9_are_the_test_set_and_train_seeds_follow() -> None:
     assert list(TEST_SEEDS) == list(range(10)) and FIRST_TRAIN_SEED == 10
     assert is_test_seed(9) and not is_test_seed(10)
-    with pytest.raises(ConfigError, match="seed 3 is a test seed.*train seeds start at 10"):
+    with pytest.raises(ConfigError, match=r"seed 3 is a test seed.*train seeds start at 10"):
         train_episode(TASK, 3)
 
 
@@ -58,7 +58,8 @@ def test_a_near_copy_of_a_test_scene_is_a_repeat_and_a_moved_start_is_not() -> N
 
 def test_tables_of_another_height_never_repeat() -> None:
     test = next(
-        e for e in (get_episode("place_on_flat_surface", s) for s in TEST_SEEDS)
+        e
+        for e in (get_episode("place_on_flat_surface", s) for s in TEST_SEEDS)
         if any(o.kind.endswith("table") for o in e.objects)
     )
     objects = tuple(

@@ -94,9 +94,7 @@ def closeness(a: Episode, b: Episode) -> Closeness:
         raise ConfigError(f"episodes of different tasks: {a.task_id!r} and {b.task_id!r}")
     others = {o.id: o for o in b.objects}
     kinds = all(others[o.id].kind == o.kind for o in a.objects)
-    shift = max(
-        math.dist(o.pos[:2], others[o.id].pos[:2]) for o in a.objects
-    )
+    shift = max(math.dist(o.pos[:2], others[o.id].pos[:2]) for o in a.objects)
     turn = max(abs(wrap_deg(o.yaw_deg - others[o.id].yaw_deg)) for o in a.objects)
     return Closeness(
         tables_equal=kinds,

@@ -123,7 +123,9 @@ def recover(episode: Episode, config: RunConfig) -> Recovery:
         now = episode_now(live)
         images = render_now(live, now, views, config.resolution, config.labels)
         feedback = Feedback(
-            round=len(executions), executed=tuple(executed), held=live.held,
+            round=len(executions),
+            executed=tuple(executed),
+            held=live.held,
             incomplete=summary.steps_ok,
         )
         answer = rules_replan(episode, now, feedback, digest)
@@ -145,4 +147,3 @@ def _end(
     if used >= budget:
         return "budget"
     return None
-
