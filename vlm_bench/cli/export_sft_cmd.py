@@ -94,9 +94,3 @@ def add_to(group: typer.Typer) -> None:
     """Add ``sft`` to the ``export`` command group."""
     group.command("sft")(export_sft)
 
-
-def register(app: typer.Typer) -> None:
-    """Add the ``export`` group holding ``sft`` to ``app``."""
-    group = typer.Typer(no_args_is_help=True, help="Export datasets built from the benchmark.")
-    add_to(group)
-    app.add_typer(group, name="export")

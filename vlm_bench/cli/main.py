@@ -37,15 +37,16 @@ def _register() -> None:
     report_cmd.register(app)
     models_cmd.register(app)
     try:
-        from vlm_bench.cli import execute_cmd, prompt_cmd, run_cmds
+        from vlm_bench.cli import execute_cmd, export_cmds, prompt_cmd, run_cmds
     except ImportError:  # the planning pipeline commands are optional during development
         return
     run_cmds.register(app)
     prompt_cmd.register(app)
     execute_cmd.register(app)
+    export_cmds.register(app)
     from vlm_bench.cli import export_sft_cmd
 
-    export_sft_cmd.register(app)
+    export_sft_cmd.add_to(export_cmds.export_app)
 
 
 def _one_line(text: str) -> str:

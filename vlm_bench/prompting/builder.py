@@ -167,11 +167,17 @@ def rendered_pngs(images: Mapping[str, object] | None, views: Sequence[str]) -> 
     return {} if images is None else {v: to_png(images[v]) for v in views}
 
 
-def render_text(prompt: Prompt) -> str:
-    """A readable rendering with ``<image:view>`` placeholders (golden files, HTML gallery)."""
-    user = "\n".join(
+def user_text(prompt: Prompt) -> str:
+    """The user turn as one text: its text parts, and ``<image:view>`` on its own line where
+    each image goes (what ``vlm-bench prompt`` prints and the exported dataset holds)."""
+    return "\n".join(
         f"<image:{p.view}>" if isinstance(p, ImageSlot) else p.text for p in prompt.user
     )
+
+
+def render_text(prompt: Prompt) -> str:
+    """A readable rendering with ``<image:view>`` placeholders (golden files, HTML gallery)."""
+    user = user_text(prompt)
     return f"### system\n{prompt.system.rstrip()}\n\n### user\n{user.rstrip()}\n"
 
 

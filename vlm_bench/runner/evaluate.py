@@ -6,47 +6,22 @@ from dataclasses import dataclass
 from typing import Any
 
 from vlm_bench.catalog.model_cards import answer_format_of
-from vlm_bench.parsing import error_result, parse_plan
-from vlm_bench.scoring import score_plan
+from vlm_bench.scoring.answer import Evaluation, evaluate_answer
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.parse import AnswerFormat, ParseResult
+from vlm_bench.types.parse import AnswerFormat
 from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
-from vlm_bench.types.scores import PlanScores, ScoringConfig
+from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import InstructionVariant
-
-
-@dataclass(frozen=True)
-class Evaluation:
-    """What one model output amounts to for one episode."""
-
-    parse: ParseResult
-    plan: list[dict[str, Any]]
-    scores: PlanScores
-    error_tags: tuple[str, ...]
 
 
 def evaluate_output(
     text: str, episode: Episode, scoring: ScoringConfig, answer_format: AnswerFormat | None = None
 ) -> Evaluation:
     """Parse ``text`` against the episode's object ids (and the model's documented answer
-    format, if any) and score it against its GT plan.
-
-    Returns:
-        The parse result, the valid predicted steps in the paper's JSON format, the scores and
-        the error tags: parser codes, then planning error types (duplicates removed).
-    """
-    parsed = parse_plan(text, episode.object_ids(), answer_format)  # never raises
-    try:
-        scores = score_plan(parsed, episode.gt_plan, scoring)
-    # One output must not stop a run, nor every resume of it (its answer is cached): what
-    # scoring raises is this output's recorded result, parse code ``error``.
-    except Exception as exc:  # noqa: BLE001
-        parsed = error_result(exc)
-        scores = score_plan(parsed, episode.gt_plan, scoring)
-    tags = dict.fromkeys(str(code) for code in parsed.all_errors())
-    tags.update(dict.fromkeys(str(err) for err in scores.error_types))
-    return Evaluation(parsed, plan_to_json(parsed.valid_steps()), scores, tuple(tags))
+    format, if any) and score it against its GT plan (see
+    :func:`~vlm_bench.scoring.answer.evaluate_answer`)."""
+    return evaluate_answer(text, episode.object_ids(), episode.gt_plan, scoring, answer_format)
 
 
 @dataclass(frozen=True)
