@@ -33,7 +33,10 @@ def test_export_loads_with_its_features_and_is_deterministic(cli: Cli, tmp_path:
     assert [r["key"] for r in rows] == [f"{TASK}/12/explicit/0", f"{TASK}/12/implicit/0"]
     assert all(r["kind"] == "plan" and r["round"] == 0 and len(r["images"]) == 4 for r in rows)
     card = (a / "README.md").read_text()
-    assert card.startswith("---\nconfigs:") and "Contains test seeds" not in card
+    header = card.split("---\n")[1]
+    assert "configs:" in header and "num_examples: 2" in header and "seeds: train" in header
+    assert "Contains test seeds" not in card
+    assert sorted(p.name for p in (a / "data").iterdir()) == ["train-00000-of-00001.parquet"]
 
 
 def test_a_test_seed_is_refused_unless_allowed_and_then_the_card_says_so(
@@ -67,6 +70,7 @@ def test_a_non_empty_folder_is_refused_without_force(cli: Cli, tmp_path: Path) -
     assert done.returncode == 2
     (line,) = done.stderr.strip().splitlines()
     assert "is not empty" in line and "--force" in line
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]  # no staging folder left
     assert _files(out) == {"notes.txt": b"mine"}
 
 
@@ -77,5 +81,5 @@ def test_missing_datasets_names_the_extra(
     done = cli.result("export", "sft", str(tmp_path / "out"), "--seeds", "12", *SMALL)
     assert done.exit_code != 0
     assert "datasets is not installed" in str(done.exception)
-    assert "pip install 'vlm-bench[train]'" in str(done.exception)
+    assert "pip install 'vlm-bench[dataset]'" in str(done.exception)
     assert not (tmp_path / "out").exists()

@@ -54,7 +54,10 @@ def export_sft(
     allow_test_seeds: Annotated[
         bool, typer.Option(help="Accept seeds 0-9 (the test set); the card says so.")
     ] = False,
-    force: Annotated[bool, typer.Option(help="Write into a non-empty folder.")] = False,
+    force: Annotated[
+        bool, typer.Option(help="Replace the dataset in a non-empty folder (other files stay).")
+    ] = False,
+    shard_rows: Annotated[int, typer.Option(help="Rows per Parquet file.")] = 100,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
     """Write planner SFT data (trl's conversational vision format) for train seeds: the GT plan
@@ -80,7 +83,12 @@ def export_sft(
         perturb=perturbations,
     )
     done = api_export(
-        config, out, force=force, allow_test_seeds=allow_test_seeds, progress=progress
+        config,
+        out,
+        force=force,
+        allow_test_seeds=allow_test_seeds,
+        shard_rows=shard_rows,
+        progress=progress,
     )
     kinds = ", ".join(f"{n} {kind}" for kind, n in sorted(done.counts.rows.items()))
     print(
@@ -93,4 +101,3 @@ def export_sft(
 def add_to(group: typer.Typer) -> None:
     """Add ``sft`` to the ``export`` command group."""
     group.command("sft")(export_sft)
-

@@ -1,70 +1,57 @@
-"""The SFT export as a dataset folder: its features, its card and the streamed write
-(docs/training.md#sft-export-schema)."""
+"""The SFT export as a dataset folder (docs/training.md#sft-export-schema): its columns, and the
+streamed write through the dataset export's own Parquet writer and staging
+(:mod:`vlm_bench.export`): shards named as the Hub names them, the same bytes for the same rows,
+and nothing half-written where an export stops."""
 
 from __future__ import annotations
 
-import json
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from vlm_bench.episodes.train_split import TOLERANCE, test_seeds_in
+from vlm_bench.export.dataset_export import DATA_FOLDER, _install, check_target
+from vlm_bench.export.features import require_dataset_extra
+from vlm_bench.export.parquet_writer import DEFAULT_SHARD_ROWS, ShardWriter, shard_names
 from vlm_bench.runner.progress import progress_bar
-from vlm_bench.training.parquet_rows import SHARD_GLOB, ShardWriter, require_datasets
-from vlm_bench.training.sft_export import SftCounts, check_out_folder, scene_count, sft_examples
+from vlm_bench.training.sft_card import SPLIT, sft_card
+from vlm_bench.training.sft_export import SftCounts, row_bound, scene_count, sft_examples
 from vlm_bench.training.sft_rows import SftExample
 from vlm_bench.types.run import RunConfig
 
-CARD = "README.md"
-CARD_OPTIONS = (
-    "tasks",
-    "suite",
-    "seeds",
-    "instructions",
-    "views",
-    "resolution",
-    "labels",
-    "k_shot",
-    "few_shot_seed",
-    "object_list",
-    "images",
-    "scene_as_text",
-    "perturb",
-    "max_rounds",
-    "step_budget",
-    "history",
-    "uav_noise",
-)
-"""The export's options the card records (selection, prompt, perturbations)."""
+if TYPE_CHECKING:
+    import datasets
 
 
-def sft_features() -> Any:
-    """The export's ``datasets.Features`` (one column per :class:`SftExample` field)."""
-    ds = require_datasets()
-    part = {"type": ds.Value("string"), "text": ds.Value("string")}
-    message = {"role": ds.Value("string"), "content": ds.List(part)}
-    return ds.Features(
+def sft_features() -> datasets.Features:
+    """The columns: one per :class:`~vlm_bench.training.sft_rows.SftExample` field (lists
+    spelled ``[feature]``, as the dataset export spells them)."""
+    from datasets import Features, Image, Value
+
+    part = {"type": Value("string"), "text": Value("string")}
+    return Features(
         {
-            "key": ds.Value("string"),
-            "task_id": ds.Value("string"),
-            "suite": ds.Value("string"),
-            "seed": ds.Value("int64"),
-            "instruction": ds.Value("string"),
-            "round": ds.Value("int32"),
-            "kind": ds.Value("string"),
-            "messages": ds.List(message),
-            "images": ds.List(ds.Image()),
-            "target": ds.Value("string"),
-            "prompt_hash": ds.Value("string"),
+            "key": Value("string"),
+            "task_id": Value("string"),
+            "suite": Value("string"),
+            "seed": Value("int64"),
+            "instruction": Value("string"),
+            "round": Value("int32"),
+            "kind": Value("string"),
+            "messages": [{"role": Value("string"), "content": [part]}],
+            "images": [Image()],
+            "target": Value("string"),
+            "prompt_hash": Value("string"),
         }
     )
 
 
-def _row(example: SftExample) -> dict[str, Any]:
-    row = example.model_dump(exclude={"images"})
-    row["messages"] = list(example.messages)
-    row["images"] = [{"bytes": png, "path": None} for png in example.images]
-    return row
+def sft_record(example: SftExample) -> dict[str, Any]:
+    """A row as a record of :func:`sft_features` (images as PNG bytes)."""
+    record = example.model_dump(exclude={"images", "messages"})
+    record["messages"] = list(example.messages)
+    record["images"] = [{"bytes": png, "path": None} for png in example.images]
+    return record
 
 
 @dataclass(frozen=True)
@@ -83,110 +70,50 @@ def export_sft(
     *,
     force: bool = False,
     allow_test_seeds: bool = False,
+    shard_rows: int = DEFAULT_SHARD_ROWS,
     progress: bool = False,
 ) -> SftExport:
     """Write the SFT dataset of ``config``'s selection and prompt options into ``out``.
 
     Args:
         config: Selection (tasks or suite, seeds, instructions), prompt options, and
-            ``perturb`` (with ``loop``, ``max_rounds``) for replan rows.
-        out: The dataset folder (empty, or ``force``).
-        force: Write into a non-empty folder (its shards and card are replaced).
+            ``perturb`` (with ``max_rounds``, ``history``) for replan rows.
+        out: The dataset folder (empty, or ``force``: its card and ``data/`` are replaced).
+        force: Write into a non-empty folder.
         allow_test_seeds: Accept seeds 0-9 (the card says so).
-        progress: A progress bar on stderr.
+        shard_rows: Rows per Parquet file.
+        progress: A progress bar on stderr (one step per task x seed).
 
     Raises:
-        ConfigError: Test seeds without ``allow_test_seeds``, a non-empty ``out``.
-        MissingExtraError: ``datasets`` is missing.
+        MissingExtraError: ``datasets`` or ``pyarrow`` is missing (the ``dataset`` extra).
+        ConfigError: Test seeds without ``allow_test_seeds``, a non-empty ``out``: before
+            anything is written.
     """
-    features = sft_features()
-    check_out_folder(out, force)
+    require_dataset_extra()
+    check_target(out, force)
     counts = SftCounts()
-    rows = sft_examples(config, counts, allow_test_seeds=allow_test_seeds)  # checks seeds first
-    first = next(rows, None)
-    if force:
-        for old in out.glob(SHARD_GLOB):
-            old.unlink()
-    writer = ShardWriter(out, features)
-    with progress_bar(scene_count(config), "sft export", enabled=progress) as advance:
-        for done, examples in [first] if first is not None else []:
-            writer.write([_row(e) for e in examples])
-            advance(done)
-        for done, examples in rows:
-            writer.write([_row(e) for e in examples])
-            advance(done)
-    shards = writer.close()
-    (out / CARD).write_text(sft_card(config, counts, writer.rows, allow_test_seeds, features))
-    return SftExport(out, writer.rows, counts, tuple(shards))
-
-
-def sft_card(
-    config: RunConfig, counts: SftCounts, rows: int, allow_test_seeds: bool, features: Any
-) -> str:
-    """The dataset card: the YAML header ``datasets`` reads, then what the rows are."""
-    from vlm_bench import __version__
-    from vlm_bench.types.benchmark_version import BENCHMARK_VERSION
-
-    info = {"features": features._to_yaml_list()}
-    header = {
-        "configs": [
-            {"config_name": "default", "data_files": [{"split": "train", "path": SHARD_GLOB}]}
-        ],
-        "dataset_info": info,
-        "license": "apache-2.0",
-        "tags": ["vlm-bench", "sft", "robotics", "planning"],
-        "vlm_bench": {"benchmark_version": BENCHMARK_VERSION, "split": _split(config)},
-    }
-    test = test_seeds_in(config.seeds)
-    leak = (
-        f"**Contains test seeds {', '.join(map(str, test))}** (exported with "
-        "`--allow-test-seeds`): do not evaluate a model trained on it on those seeds.\n\n"
-        if allow_test_seeds and test
-        else ""
-    )
-    options = config.model_dump(mode="json", include=set(CARD_OPTIONS))
-    ends = ", ".join(f"{k} {v}" for k, v in sorted(counts.ends.items())) or "(no --perturb)"
-    return "\n".join(
-        [
-            "---",
-            _yaml(header).rstrip(),
-            "---",
-            "",
-            "# vlm-bench planner SFT data",
-            "",
-            leak
-            + f"Generated by vlm-bench {__version__} (benchmark version {BENCHMARK_VERSION}) with "
-            "`vlm-bench export sft`. Conversational rows in the form trl's `SFTTrainer` takes "
-            "for vision-language models: `messages` (system, user, assistant turns; image "
-            'parts are `{"type": "image"}` placeholders) and `images` (one per image '
-            "part, in order). The last assistant turn is the target: the GT plan (`kind` plan) "
-            "or the `rules` planner's recovery after a perturbed execution failed (`kind` "
-            "replan).",
-            "",
-            f"- rows: {rows} ({', '.join(f'{k} {v}' for k, v in sorted(counts.rows.items()))})",
-            f"- scenes (task x seed): {counts.episodes}",
-            f"- left out as repeats of a test episode (tolerance {TOLERANCE}): "
-            f"{len(counts.repeats)} {counts.repeats[:20]}",
-            f"- perturbed executions: {ends}",
-            "",
-            "Options:",
-            "",
-            "```json",
-            json.dumps(options, indent=1, sort_keys=True),
-            "```",
-            "",
-        ]
-    )
-
-
-def _split(config: RunConfig) -> str:
-    test = test_seeds_in(config.seeds)
-    if not test:
-        return "train"
-    return "test" if len(test) == len(config.seeds) else "train+test"
-
-
-def _yaml(data: Any) -> str:
-    import yaml
-
-    return str(yaml.safe_dump(data, sort_keys=False, allow_unicode=True))
+    examples = sft_examples(config, counts, allow_test_seeds=allow_test_seeds)  # checks now
+    features = sft_features()
+    bound = shard_names(SPLIT, row_bound(config), shard_rows)
+    staging = out.parent / f".{out.name}.partial"
+    if staging.exists():
+        shutil.rmtree(staging)  # an export that was interrupted
+    try:
+        writer = ShardWriter(staging / DATA_FOLDER, features, bound, shard_rows)
+        with progress_bar(scene_count(config), "sft export", enabled=progress) as advance:
+            for done, rows in examples:
+                for row in rows:
+                    writer.add(sft_record(row))
+                advance(done)
+        written = writer.close()
+        names = shard_names(SPLIT, writer.rows, shard_rows)  # the count is known now
+        for path, name in zip(written, names, strict=True):
+            path.rename(path.with_name(name))
+        card = sft_card(config, counts, features, writer.arrow_bytes)
+        (staging / "README.md").write_text(card, encoding="utf-8")
+        _install(staging, out)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    shards = tuple(out / DATA_FOLDER / name for name in names)
+    return SftExport(out, writer.rows, counts, shards)

@@ -15,7 +15,6 @@ from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from itertools import groupby
-from pathlib import Path
 
 from vlm_bench.episodes.train_split import test_seeds_in, train_episodes
 from vlm_bench.errors import ConfigError
@@ -59,13 +58,23 @@ def check_seeds(config: RunConfig, allow_test_seeds: bool) -> None:
 def sft_examples(
     config: RunConfig, counts: SftCounts, *, allow_test_seeds: bool = False
 ) -> Iterator[tuple[int, list[SftExample]]]:
-    """Per task × seed of ``config``'s selection, in order: the episode's rows of every
-    instruction variant (empty for a repeat of a test episode), after ``1`` scene done.
+    """Per task × seed of ``config``'s selection, in order: ``1`` scene done and its rows of
+    every instruction variant (none for a repeat of a test episode). ``config.perturb`` set:
+    replan rows from the recovery of each perturbed execution.
 
-    ``config.perturb`` set: replan rows from the recovery of each perturbed execution.
+    The seeds and the selection are checked at the call, before any row is drawn.
+
+    Raises:
+        ConfigError: Test seeds without ``allow_test_seeds``. UnknownNameError: A task id.
     """
     check_seeds(config, allow_test_seeds)
     refs = select_episodes(config)
+    return _rows(config, refs, counts, allow_test_seeds)
+
+
+def _rows(
+    config: RunConfig, refs: list[EpisodeRef], counts: SftCounts, allow_test_seeds: bool
+) -> Iterator[tuple[int, list[SftExample]]]:
     source = run_snapshots(config, None)
     try:
         for (task_id, seed), group in groupby(refs, key=lambda r: (r.task_id, r.seed)):
@@ -79,7 +88,7 @@ def sft_examples(
             counts.episodes += 1
             images = source.images(episode) if config.images else None
             recovery = None
-            if config.perturb is not None:
+            if config.perturb is not None or config.uav_noise > 0:
                 recovery = recover(episode, config)
                 counts.ends["recovered" if recovery.recovered else recovery.end] += 1
             rows = [
@@ -98,13 +107,8 @@ def scene_count(config: RunConfig) -> int:
     return len({(r.task_id, r.seed) for r in select_episodes(config)})
 
 
-def check_out_folder(out: Path, force: bool) -> None:
-    """Refuse to write into a non-empty folder unless forced.
-
-    Raises:
-        ConfigError: ``out`` is a file, or a folder with files and no ``force``.
-    """
-    if out.exists() and not out.is_dir():
-        raise ConfigError(f"{out} is a file, not a folder")
-    if out.is_dir() and any(out.iterdir()) and not force:
-        raise ConfigError(f"{out} is not empty; choose an empty folder or add --force")
+def row_bound(config: RunConfig) -> int:
+    """The most rows an export of ``config`` can write (a plan row per episode, and with
+    perturbations a replan row per replan)."""
+    rounds = 1 + (config.max_rounds if config.loop == "closed" else 0)
+    return len(select_episodes(config)) * rounds
