@@ -44,6 +44,9 @@ def _register() -> None:
     prompt_cmd.register(app)
     execute_cmd.register(app)
     export_cmds.register(app)
+    from vlm_bench.cli import export_sft_cmd
+
+    export_sft_cmd.add_to(export_cmds.export_app)
 
 
 def _one_line(text: str) -> str:
