@@ -43,6 +43,9 @@ def _register() -> None:
     run_cmds.register(app)
     prompt_cmd.register(app)
     execute_cmd.register(app)
+    from vlm_bench.cli import export_demos_cmd
+
+    export_demos_cmd.register(app)
 
 
 def _one_line(text: str) -> str:

@@ -18,6 +18,7 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from pydantic import Field
@@ -40,6 +41,25 @@ FPS = round(1 / CONTROL_DT)
 """Frames per second of a demonstration: the control rate (20 Hz)."""
 DEFAULT_VIEWS = (CAM_WRIST, CAM_OVERHEAD)
 DEFAULT_SIZE = 96
+
+
+SOURCE_TASK = "vlm_bench/task_id"
+SOURCE_SEED = "vlm_bench/seed"
+SOURCE_STEP = "vlm_bench/plan_step"
+"""Episodes-table columns naming where a LeRobot episode came from: the benchmark task, the
+episode seed and the GT plan step (-1: the whole execution)."""
+
+
+def demo_source(demo: Demonstration) -> dict[str, Any]:
+    """The episodes-table columns of a demonstration: its episode and drawn variation."""
+    draw = demo.draw
+    return {
+        SOURCE_TASK: demo.episode.task_id,
+        SOURCE_SEED: demo.episode.seed,
+        "vlm_bench/speed": draw.speed,
+        "vlm_bench/accel": draw.accel,
+        "vlm_bench/stow_s": draw.stow_s,
+    }
 
 
 class DemoExportConfig(Frozen):
@@ -88,9 +108,9 @@ def check_request(config: DemoExportConfig, out: Path, force: bool) -> None:
     tests = sorted(s for s in set(config.seeds) if s in MATERIALISED_SEEDS)
     if tests and not config.allow_test_seeds:
         raise ConfigError(
-            f"seeds {', '.join(map(str, tests[:5]))} are test seeds (0-9, the benchmark's GT): "
-            "training on them leaks the test set; use train seeds (10 and up) or "
-            "--allow-test-seeds"
+            f"test seeds asked for ({', '.join(map(str, tests[:5]))}): seeds 0-9 are the "
+            "benchmark's test set and training on them leaks it; use train seeds (10 and up) "
+            "or --allow-test-seeds"
         )
     if config.size % 2:
         raise ConfigError(f"--size must be even (H.264 with yuv420p), got {config.size}")
@@ -106,9 +126,10 @@ def _episodes_of(demo: Demonstration, config: DemoExportConfig) -> list[EpisodeD
     states = np.stack(frames.states)
     actions = np.stack(frames.actions)
     images = {v: np.stack(frames.images[v]) for v in frames.views}
+    source = demo_source(demo)
     if not config.per_arm_step:
         task = demo.episode.instruction(config.variant)
-        return [EpisodeData(task, states, actions, images)]
+        return [EpisodeData(task, states, actions, images, {**source, SOURCE_STEP: -1})]
     marks = np.array(frames.arm_steps)
     out = []
     for index in sorted(set(frames.arm_steps) - {-1}):
@@ -118,7 +139,9 @@ def _episodes_of(demo: Demonstration, config: DemoExportConfig) -> list[EpisodeD
             continue
         text = f"{step.skill} {step.object}" + (f" to {step.target}" if step.target else "")
         sel = slice(int(rows[0]), int(rows[-1]) + 1)
-        out.append(EpisodeData(text, states[sel], actions[sel], {k: v[sel] for k, v in images.items()}))
+        cut = {k: v[sel] for k, v in images.items()}
+        source = {**demo_source(demo), SOURCE_STEP: index}
+        out.append(EpisodeData(text, states[sel], actions[sel], cut, source))
     return out
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import importlib.util
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +44,8 @@ class EpisodeData:
     """``(n, 12)``."""
     images: dict[str, NDArray[np.uint8]]
     """View -> ``(n, size, size, 3)``."""
+    source: dict[str, Any] = field(default_factory=dict)
+    """Extra columns of its row in the episodes table (where it came from)."""
 
     def __len__(self) -> int:
         return int(self.actions.shape[0])
@@ -156,6 +158,7 @@ class LeRobotWriter:
             self._stats[fmt.video_key(view)].add_images(episode.images[view][::5])
         row["meta/episodes/chunk_index"] = 0
         row["meta/episodes/file_index"] = 0
+        row.update(episode.source)
         self.episodes.append(row)
         self._add_stats(episode, index, task_index)
         self.frames += n
