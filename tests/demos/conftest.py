@@ -20,7 +20,7 @@ def synthetic_episode(k: int, n: int, task: str) -> EpisodeData:
     """Episode ``k``: smooth colour ramps (they survive H.264 nearly unchanged)."""
     rng = np.random.default_rng(k)
     states = rng.normal(size=(n, 15)).astype(np.float32)
-    actions = rng.normal(scale=0.01, size=(n, 12)).astype(np.float32)
+    actions = (0.01 * states[:, :12] + rng.normal(scale=0.001, size=(n, 12))).astype(np.float32)
     ramp = np.linspace(0, 1, n)[:, None, None, None]
     base = np.array([40 + 60 * k, 120, 200 - 50 * k], dtype=np.float64)
     images = {
@@ -35,7 +35,9 @@ def synthetic_episode(k: int, n: int, task: str) -> EpisodeData:
 
 def write_synthetic(root: Path) -> list[EpisodeData]:
     """Write the three episodes into ``root``; returns them."""
-    episodes = [synthetic_episode(k, n, t) for k, (n, t) in enumerate(zip(LENGTHS, TASKS))]
+    episodes = [
+        synthetic_episode(k, n, t) for k, (n, t) in enumerate(zip(LENGTHS, TASKS, strict=True))
+    ]
     writer = LeRobotWriter(root, VIEWS, SIZE, FPS)
     for episode in episodes:
         writer.add(episode)

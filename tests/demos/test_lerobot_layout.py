@@ -11,8 +11,8 @@ import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
-from tests.demos.conftest import FPS, LENGTHS, SIZE, TASKS, VIEWS
 
+from tests.demos.conftest import FPS, LENGTHS, SIZE, TASKS, VIEWS
 from vlm_bench.vla.demos.lerobot_writer import EpisodeData
 from vlm_bench.vla.demos.reader import DemoDataset
 

@@ -40,14 +40,13 @@ def export_demos(
 ) -> None:
     """Record the scripted executor's executions of GT plans, varied like teleoperated
     demonstrations, as a LeRobotDataset v3.0 at 20 Hz (successful executions only)."""
+    from pydantic import ValidationError
+
+    from vlm_bench.errors import option_error
     from vlm_bench.runner.progress import progress_bar
     from vlm_bench.vla.demos import DemoExportConfig, DemoVariation
     from vlm_bench.vla.demos import export_demos as api_export
     from vlm_bench.vla.demos.export import check_request, count_executions
-
-    from pydantic import ValidationError
-
-    from vlm_bench.errors import option_error
 
     try:
         config = DemoExportConfig(

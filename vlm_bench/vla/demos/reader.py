@@ -93,7 +93,9 @@ class DemoDataset:
         )
         first = round(float(row[f"videos/{key}/from_timestamp"]) * self.fps)
         n = int(row["length"])
-        reader = imageio_ffmpeg.read_frames(str(self.root / rel), output_params=["-fps_mode", "passthrough"])
+        reader = imageio_ffmpeg.read_frames(
+            str(self.root / rel), output_params=["-fps_mode", "passthrough"]
+        )
         meta = next(reader)
         w, h = meta["size"]
         out = []

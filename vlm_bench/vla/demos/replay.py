@@ -45,9 +45,7 @@ def replay_episode(dataset: DemoDataset, index: int) -> ReplayResult:
         raise ConfigError(f"episode {index} is one ARM step; only whole executions replay")
     task_id, seed = str(row[SOURCE_TASK]), int(row[SOURCE_SEED])
     n = len(stored.actions)
-    env = AerialManipulationEnv(
-        task_id, seed, views=(), render_mode=None, max_episode_steps=n + 1
-    )
+    env = AerialManipulationEnv(task_id, seed, views=(), render_mode=None, max_episode_steps=n + 1)
     try:
         obs, _ = env.reset()
         error = float(np.abs(obs["proprio"] - stored.states[0]).max())

@@ -41,7 +41,7 @@ def _network(n_views: int, state_size: int, action_size: int) -> Any:
     torch = _torch()
     nn = torch.nn
 
-    class TinyNet(nn.Module):  # type: ignore[misc]
+    class TinyNet(nn.Module):  # type: ignore[misc, name-defined]
         """Per camera: two strided convolutions and a global mean; then an MLP with the state."""
 
         def __init__(self) -> None:
@@ -122,7 +122,12 @@ def _stats(dataset: DemoDataset) -> dict[str, NDArray[np.float32]]:
 
 
 def train_tiny_policy(
-    dataset: DemoDataset, steps: int = 20, batch_size: int = 32, size: int = 32, seed: int = 0
+    dataset: DemoDataset,
+    steps: int = 20,
+    batch_size: int = 32,
+    size: int = 32,
+    seed: int = 0,
+    lr: float = 1e-3,
 ) -> TinyPolicy:
     """Fit a :class:`TinyPolicy` on every frame of ``dataset`` for ``steps`` Adam steps."""
     torch = _torch()
@@ -142,7 +147,7 @@ def train_tiny_policy(
     target = torch.from_numpy(((a - stats["action_mean"]) / stats["action_std"]).astype(np.float32))
     net = _network(len(views), s.shape[1], a.shape[1])
     policy = TinyPolicy(net, views, size, stats, [])
-    optim = torch.optim.Adam(net.parameters(), lr=1e-3)
+    optim = torch.optim.Adam(net.parameters(), lr=lr)
     rng = np.random.default_rng(seed)
     for _ in range(steps):
         rows = rng.integers(0, len(s), size=batch_size)
@@ -158,7 +163,7 @@ def train_tiny_policy(
 
 def evaluate_policy(
     policy: TinyPolicy, episode: Episode, max_steps: int = 40, render_size: int = 64
-) -> VlaScores:
+) -> VlaScores | None:
     """S_pos, S_arm, S_safe, S_task of the episode's GT plan with ``policy`` driving its ARM
     steps (each for at most ``max_steps`` control steps; no replans)."""
 
