@@ -84,7 +84,7 @@ class _Video:
 
     def append(self, frames: NDArray[np.uint8]) -> dict[str, Any]:
         """Write an episode's frames; returns its episodes-table columns."""
-        if self._gen is None or self._path.stat().st_size > fmt.VIDEO_FILE_SIZE_MB * MB:
+        if self._gen is None or _size(self._path) > fmt.VIDEO_FILE_SIZE_MB * MB:
             self.close()
             self._open()
         start = self.frames
@@ -178,7 +178,7 @@ class LeRobotWriter:
         import pyarrow.parquet as pq
 
         full = self._data is not None and (
-            self._data_path.stat().st_size > fmt.DATA_FILE_SIZE_MB * MB
+            _size(self._data_path) > fmt.DATA_FILE_SIZE_MB * MB
         )
         if self._data is None or full:
             if self._data is not None:
@@ -227,3 +227,11 @@ def _fixed(values: NDArray[np.float32]) -> Any:
 
     flat = pa.array(np.ascontiguousarray(values, dtype=np.float32).reshape(-1))
     return pa.FixedSizeListArray.from_arrays(flat, values.shape[1])
+
+
+def _size(path: Path) -> int:
+    """Bytes written to ``path`` so far (ffmpeg creates its output a little after starting)."""
+    try:
+        return path.stat().st_size
+    except FileNotFoundError:
+        return 0
