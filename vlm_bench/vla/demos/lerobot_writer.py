@@ -177,9 +177,7 @@ class LeRobotWriter:
     def _write_rows(self, table: Any) -> None:
         import pyarrow.parquet as pq
 
-        full = self._data is not None and (
-            _size(self._data_path) > fmt.DATA_FILE_SIZE_MB * MB
-        )
+        full = self._data is not None and (_size(self._data_path) > fmt.DATA_FILE_SIZE_MB * MB)
         if self._data is None or full:
             if self._data is not None:
                 self._data.close()
