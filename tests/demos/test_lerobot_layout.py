@@ -12,7 +12,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from tests.demos.conftest import FPS, LENGTHS, SIZE, TASKS, VIEWS
+from tests.demos.conftest import FPS, LENGTHS, SIZE, TASKS, VIEWS, write_synthetic
 from vlm_bench.vla.demos.lerobot_writer import EpisodeData
 from vlm_bench.vla.demos.reader import DemoDataset
 
@@ -118,3 +118,13 @@ def test_the_reader_gets_the_arrays_and_the_video_frames_back(synthetic: Synthet
         assert frames.shape == written.images["overhead"].shape
         error = np.abs(frames.astype(int) - written.images["overhead"].astype(int)).mean()
         assert error < 6  # lossy H.264, but each episode's own frames (not a neighbour's)
+
+
+def test_the_same_episodes_write_the_same_bytes(tmp_path: Path) -> None:
+    first, second = tmp_path / "a", tmp_path / "b"
+    write_synthetic(first)
+    write_synthetic(second)
+    files = sorted(p.relative_to(first) for p in first.rglob("*") if p.is_file())
+    assert len(files) == 7
+    for rel in files:
+        assert (first / rel).read_bytes() == (second / rel).read_bytes(), rel
