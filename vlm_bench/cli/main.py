@@ -44,9 +44,10 @@ def _register() -> None:
     prompt_cmd.register(app)
     execute_cmd.register(app)
     export_cmds.register(app)
-    from vlm_bench.cli import export_sft_cmd
+    from vlm_bench.cli import export_demos_cmd, export_sft_cmd
 
     export_sft_cmd.add_to(export_cmds.export_app)
+    export_demos_cmd.add_to(export_cmds.export_app)
 
 
 def _one_line(text: str) -> str:

@@ -9,6 +9,7 @@ destination, lower, open, retreat up and stow.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from vlm_bench.executor.motion.ik import TOP_DOWN_SEED
 from vlm_bench.executor.motion.joint_moves import hold_with_gripper, joint_move
 from vlm_bench.executor.sim_loop import SimLoop, Skill
 from vlm_bench.executor.skills.carry_raise import raise_to_carry
-from vlm_bench.executor.skills.grasp_points import grasp_points
+from vlm_bench.executor.skills.grasp_points import GraspPoint, grasp_points
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.placing import Placer
 from vlm_bench.sim.constants import GRIPPER_CLOSED, GRIPPER_OPEN
@@ -37,14 +38,18 @@ SECTION_HALF = 0.025  # m along the hand: geoms centred this near make the grasp
 GRASP_DESCENT = 1.5  # s: the hand's straight way down onto a grasp point
 GRASP_TURN_ROOM = 0.15  # rad: a grasp posture with the base joint nearer its limit counts as a
 # contact: the lift and raise take the joint closer still, and a place beside needs room to turn
+GraspOrder = Callable[[list[GraspPoint]], list[GraspPoint]]
+"""Reorders an object's candidate grasps before the first reachable one is taken (varied
+demonstrations, vlm_bench/vla/demos/variation.py)."""
 
 
 class Picker:
     """``pick`` for one scene (what is held lives in ``loop.held``)."""
 
-    def __init__(self, hand: Hand) -> None:
+    def __init__(self, hand: Hand, order: GraspOrder | None = None) -> None:
         self.hand = hand
         self.loop = hand.loop
+        self.order = order
 
     def pick(self, episode: Episode, step: ArmStep) -> SkillFailure | None:
         """Top-down grasp of ``step.object``; ``None`` on success, else the failure."""
@@ -106,7 +111,8 @@ class Picker:
         ignore = self.hand.body_geoms(obj)
         fallback = None
         com = np.array(body.xipos)
-        for cand in grasp_points(kind, np.array(body.xpos), yaw, lo, hi, com):
+        candidates = grasp_points(kind, np.array(body.xpos), yaw, lo, hi, com)
+        for cand in self.order(candidates) if self.order else candidates:
             point = (
                 self.on_section(obj, cand.point, cand.rotations[0])
                 if cand.centre_across
@@ -155,7 +161,10 @@ class Picker:
         return float(lo[2])
 
 
-def grasp_skills(loop: SimLoop, hand: Hand | None = None) -> dict[str, Skill]:
-    """``pick`` and ``place`` bound to one loop (they share one hand and what it holds)."""
+def grasp_skills(
+    loop: SimLoop, hand: Hand | None = None, order: GraspOrder | None = None
+) -> dict[str, Skill]:
+    """``pick`` and ``place`` bound to one loop (they share one hand and what it holds);
+    ``order`` reorders each pick's candidate grasps (default: best first)."""
     hand = hand or Hand(loop)
-    return {"pick": Picker(hand).pick, "place": Placer(hand).place}
+    return {"pick": Picker(hand, order).pick, "place": Placer(hand).place}

@@ -1,0 +1,219 @@
+"""``vlm-bench export demos``: scripted executions of GT plans as a LeRobot dataset
+(docs/demos.md).
+
+For every selected task × train seed, the scripted executor executes the episode's GT plan
+with a seeded :class:`~vlm_bench.vla.demos.variation.DemoVariation` while a
+:class:`~vlm_bench.vla.demos.recorder.DemoRecorder` records the cameras, the state and the
+gym environment's 12-D action every 50 ms (:data:`FPS` = 20 Hz, the control rate, so a
+replay of the actions in the gym environment issues the same commands). Successful
+executions become LeRobot episodes (one per execution, or one per ARM step with
+``per_arm_step``), the task text being the instruction (or the ARM step's command);
+failures are counted, not written.
+"""
+
+from __future__ import annotations
+
+import shutil
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import Field
+
+from vlm_bench.catalog.gt_episodes import MATERIALISED_SEEDS
+from vlm_bench.catalog.tasks import get_task, tasks_in
+from vlm_bench.episodes import get_episode
+from vlm_bench.errors import ConfigError
+from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_WRIST, CONTROL_DT
+from vlm_bench.sim.render import SnapshotRenderer
+from vlm_bench.types.base import Frozen
+from vlm_bench.types.plan import ArmStep
+from vlm_bench.types.task import InstructionVariant, Suite
+from vlm_bench.vla.demos.lerobot_writer import EpisodeData, LeRobotWriter, require_writer_packages
+from vlm_bench.vla.demos.record import Demonstration, record_demo
+from vlm_bench.vla.demos.variation import DemoVariation, draw_variation
+from vlm_bench.vla.observation import ObservationConfig
+
+FPS = round(1 / CONTROL_DT)
+"""Frames per second of a demonstration: the control rate (20 Hz)."""
+DEFAULT_VIEWS = (CAM_WRIST, CAM_OVERHEAD)
+DEFAULT_SIZE = 96
+
+
+SOURCE_TASK = "vlm_bench/task_id"
+SOURCE_SEED = "vlm_bench/seed"
+SOURCE_STEP = "vlm_bench/plan_step"
+"""Episodes-table columns naming where a LeRobot episode came from: the benchmark task, the
+episode seed and the GT plan step (-1: the whole execution)."""
+
+
+def demo_source(demo: Demonstration) -> dict[str, Any]:
+    """The episodes-table columns of a demonstration: its episode and drawn variation."""
+    draw = demo.draw
+    return {
+        SOURCE_TASK: demo.episode.task_id,
+        SOURCE_SEED: demo.episode.seed,
+        "vlm_bench/speed": draw.speed,
+        "vlm_bench/accel": draw.accel,
+        "vlm_bench/stow_s": draw.stow_s,
+    }
+
+
+class DemoExportConfig(Frozen):
+    """What an export records."""
+
+    tasks: tuple[str, ...] = Field(default=(), description="Task ids; () = every task (of suite).")
+    suite: Suite | None = Field(default=None, description="Only this suite's tasks.")
+    seeds: tuple[int, ...] = Field(description="Episode seeds (train seeds are 10 and up).")
+    variant: InstructionVariant = Field(default="explicit", description="Instruction as task.")
+    views: tuple[str, ...] = Field(default=DEFAULT_VIEWS, description="Cameras recorded.")
+    size: int = Field(default=DEFAULT_SIZE, ge=16, le=512, description="Image side (px, even).")
+    per_arm_step: bool = Field(
+        default=False, description="One LeRobot episode per ARM step (task: the step's command)."
+    )
+    variation: DemoVariation = Field(default_factory=DemoVariation, description="Variation.")
+    allow_test_seeds: bool = Field(default=False, description="Accept seeds 0-9 (test set).")
+
+
+@dataclass
+class DemoExportSummary:
+    """What an export wrote and what it left out."""
+
+    folder: Path
+    executions: int = 0
+    kept: int = 0
+    episodes: int = 0
+    frames: int = 0
+    failures: Counter[str] = field(default_factory=Counter)
+    """Left-out executions by failure code (``action_out_of_bounds`` for a replay risk)."""
+
+
+def selected_task_ids(config: DemoExportConfig) -> list[str]:
+    """The export's task ids in benchmark order (validates every id)."""
+    if config.tasks:
+        wanted = {get_task(t).id for t in config.tasks}
+        return [t.id for t in tasks_in(None) if t.id in wanted]
+    return [t.id for t in tasks_in(config.suite)]
+
+
+def check_request(config: DemoExportConfig, out: Path, force: bool) -> None:
+    """Refuse test seeds (unless allowed), an odd image size and a non-empty folder.
+
+    Raises:
+        ConfigError: The first problem, in one line.
+    """
+    tests = sorted(s for s in set(config.seeds) if s in MATERIALISED_SEEDS)
+    if tests and not config.allow_test_seeds:
+        raise ConfigError(
+            f"test seeds asked for ({', '.join(map(str, tests[:5]))}): seeds 0-9 are the "
+            "benchmark's test set and training on them leaks it; use train seeds (10 and up) "
+            "or --allow-test-seeds"
+        )
+    if config.size % 2:
+        raise ConfigError(f"--size must be even (H.264 with yuv420p), got {config.size}")
+    if out.exists() and not out.is_dir():
+        raise ConfigError(f"{out} is a file, not a folder")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        raise ConfigError(f"{out} is not empty; choose an empty folder or add --force")
+
+
+def _episodes_of(demo: Demonstration, config: DemoExportConfig) -> list[EpisodeData]:
+    """The LeRobot episodes of a kept demonstration."""
+    frames = demo.frames
+    states = np.stack(frames.states)
+    actions = np.stack(frames.actions)
+    images = {v: np.stack(frames.images[v]) for v in frames.views}
+    source = demo_source(demo)
+    if not config.per_arm_step:
+        task = demo.episode.instruction(config.variant)
+        return [EpisodeData(task, states, actions, images, {**source, SOURCE_STEP: -1})]
+    marks = np.array(frames.arm_steps)
+    out = []
+    for index in sorted(set(frames.arm_steps) - {-1}):
+        rows = np.flatnonzero(marks == index)
+        step = demo.episode.gt_plan[index]
+        if not isinstance(step, ArmStep):
+            continue
+        text = f"{step.skill} {step.object}" + (f" to {step.target}" if step.target else "")
+        sel = slice(int(rows[0]), int(rows[-1]) + 1)
+        cut = {k: v[sel] for k, v in images.items()}
+        source = {**demo_source(demo), SOURCE_STEP: index}
+        out.append(EpisodeData(text, states[sel], actions[sel], cut, source))
+    return out
+
+
+def export_demos(
+    config: DemoExportConfig,
+    out: Path,
+    *,
+    force: bool = False,
+    on_progress: Callable[[Demonstration], None] | None = None,
+) -> DemoExportSummary:
+    """Record and write the demonstrations of ``config`` into ``out`` (module doc).
+
+    Args:
+        config: Tasks, seeds, cameras, variation.
+        out: Dataset folder (must be empty unless ``force``).
+        force: Write into a non-empty folder (its dataset files are replaced).
+        on_progress: Called after every execution.
+
+    Raises:
+        ConfigError: Test seeds, a non-empty folder, a bad size.
+        MissingExtraError: pyarrow or imageio-ffmpeg missing (the ``demos`` extra).
+    """
+    check_request(config, out, force)
+    require_writer_packages()
+    task_ids = selected_task_ids(config)
+    observation = ObservationConfig(views=config.views, size=config.size)
+    for part in ("data", "videos", "meta"):  # a forced export replaces an earlier one
+        shutil.rmtree(out / part, ignore_errors=True)
+    out.mkdir(parents=True, exist_ok=True)
+    writer = LeRobotWriter(out, config.views, config.size, FPS)
+    summary = DemoExportSummary(folder=out)
+    renderer = SnapshotRenderer()
+    try:
+        for task_id in task_ids:
+            for seed in config.seeds:
+                demo = _record(task_id, seed, config, observation, renderer)
+                summary.executions += 1
+                if demo.kept:
+                    summary.kept += 1
+                    for episode in _episodes_of(demo, config):
+                        writer.add(episode)
+                        summary.episodes += 1
+                        summary.frames += len(episode)
+                else:
+                    summary.failures[_failure(demo)] += 1
+                if on_progress is not None:
+                    on_progress(demo)
+    finally:
+        renderer.close()
+        writer.close()
+    return summary
+
+
+def _record(
+    task_id: str,
+    seed: int,
+    config: DemoExportConfig,
+    observation: ObservationConfig,
+    renderer: SnapshotRenderer,
+) -> Demonstration:
+    episode = get_episode(task_id, seed)
+    draw = draw_variation(config.variation, task_id, seed)
+    return record_demo(episode, draw, observation, renderer)
+
+
+def _failure(demo: Demonstration) -> str:
+    if demo.result.exec_success:
+        return "action_out_of_bounds"
+    code = demo.result.failure_code
+    return str(code) if code is not None else "failed"
+
+
+def count_executions(config: DemoExportConfig) -> int:
+    """Executions an export of ``config`` makes (the progress bar's total)."""
+    return len(selected_task_ids(config)) * len(config.seeds)
