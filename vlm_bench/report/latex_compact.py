@@ -12,7 +12,10 @@ Two layouts beside the paper's full one (:mod:`vlm_bench.report.latex`):
   metrics (default Tot, Succ, and Exec when plans were executed).
 
 ``--columns`` picks the metrics of either layout (and of the paper layout). The notes (partial
-Overalls, diagnostics) come once, under the tabular, in the table's own type size.
+Overalls, diagnostics) come once, under the tabular, in the table's own type size. Both are
+``tabularx`` environments as wide as the column (the page): the name column takes the width
+the numbers leave and wraps a long model name. The fragment needs ``booktabs`` and
+``tabularx``.
 """
 
 from __future__ import annotations
@@ -41,6 +44,9 @@ INSTRUCTION_SHORT = {"explicit": "Exp.", "implicit": "Imp.", BOTH: "Both"}
 _SIZES = {"column": r"\footnotesize", "wide": r"\scriptsize"}
 _SEP = r"\setlength{\tabcolsep}{%s}"
 _SEPS = {"column": "4pt", "wide": "3pt"}
+_WIDTHS = {"column": r"\columnwidth", "wide": r"\textwidth"}
+_NAME = r">{\raggedright\arraybackslash}X"
+"""The name column: the width the numbers leave, a long name wrapped."""
 
 
 def _head(metric: str) -> str:
@@ -106,17 +112,17 @@ def compact_latex(
     title = "/".join(system_headers(keys))
     if layout == "column":
         # metric on top, groups below: each metric is one block of Overall + groups
-        spec = "l" * lead + "".join(" " + "r" * width for _ in metrics)
+        spec = _NAME + "".join(" " + "r" * width for _ in metrics)
         top = [""] * lead + [rf"\multicolumn{{{width}}}{{c}}{{{_head(m)}}}" for m in metrics]
         sub = [escape(title)] + [
-            escape(grouping.short.get(g, "All") if g != OVERALL else "All")
+            escape(grouping.short.get(g, g) if g != OVERALL else "Overall")
             for _ in metrics
             for g in order
         ]
         cells_of = [(g, m) for m in metrics for g in order]
     else:
         width = len(metrics)
-        spec = "l" * lead + "".join(" " + "r" * width for _ in order)
+        spec = _NAME + "l" + "".join(" " + "r" * width for _ in order)
         top = [""] * lead + [
             rf"\multicolumn{{{width}}}{{c}}{{{escape(grouping.short.get(g, 'Overall'))}}}"
             for g in order
@@ -128,9 +134,13 @@ def compact_latex(
         rf"\cmidrule(lr){{{lead + 1 + i * width}-{lead + (i + 1) * width}}}" for i in range(blocks)
     )
     body: list[list[str]] = []
+    previous = None
     for row in rows:
         system = tuple(row[:-1])
         name = escape(names.get(system, "/".join(map(str, system))))
+        if layout == "wide" and system == previous:
+            name = ""  # a system's second instruction row
+        previous = system
         instruction = INSTRUCTION_SHORT.get(str(row[-1]), escape(str(row[-1])))
         label_cells = [name] if layout == "column" else [name, instruction]
         values = []
@@ -138,17 +148,18 @@ def compact_latex(
             value = float(wide.loc[row, (g, m)]) if (g, m) in wide.columns else math.nan
             values.append(cell(value, best[(g, m)], partial=g == OVERALL and row in partial))
         body.append([*label_cells, *values])
+    numbers = natural_width([c[lead:] for c in [*body, sub]], _SEPS[layout])
     size = _SIZES[layout]
     float_env = "table" if layout == "column" else "table*"
     lines = [
-        rf"% natural width about {natural_width([*body, sub], _SEPS[layout]):.0f}pt",
+        rf"% needs booktabs, tabularx; numbers about {numbers:.0f}pt wide",
         rf"\begin{{{float_env}}}[t]",
         r"\centering",
         rf"\caption{{{caption}}}",
         rf"\label{{{label}}}",
         size,
         _SEP % _SEPS[layout],
-        rf"\begin{{tabular}}{{{spec}}}",
+        rf"\begin{{tabularx}}{{{_WIDTHS[layout]}}}{{{spec}}}",
         r"\toprule",
         " & ".join(top) + r" \\",
         rules,
@@ -156,7 +167,7 @@ def compact_latex(
         r"\midrule",
         *(" & ".join(cells) + r" \\" for cells in body),
         r"\bottomrule",
-        r"\end{tabular}",
+        r"\end{tabularx}",
     ]
     if notes:
         lines.append(r"\par\smallskip\parbox{\linewidth}{" + size + " " + " ".join(notes) + "}")
@@ -197,15 +208,15 @@ def compact_caption(
 ) -> str:
     """The caption of a compact table: what its rows and columns are."""
     names = ", ".join(escape(header(m)) for m in metrics)
-    groups = "suite" if grouping.name == "suites" else "column of the paper's table"
+    one, many = ("suite", "suites") if grouping.name == "suites" else ("column", "paper's columns")
     rows = (
-        "one row per model (explicit and implicit instructions averaged)"
+        "one row per model, explicit and implicit instructions averaged"
         if layout == "column"
-        else "rows per model and instruction (Exp.: explicit; Imp.: implicit)"
+        else "a row per model and instruction (Exp.: explicit; Imp.: implicit)"
     )
     text = (
-        rf"\textbf{{VLM task planning.}} {names}: Overall (unweighted mean of the {groups}s) "
-        rf"and per {groups}; {rows}. Best value per column in bold."
+        rf"\textbf{{VLM task planning.}} {names} per {one} and Overall (the unweighted mean of "
+        rf"the {many}); {rows}. Best value per column in bold."
     )
     legend = {
         "S_total": r"Tot: total planning score",
@@ -218,3 +229,20 @@ def compact_caption(
     if loop_columns(metrics):
         said.append(r"Succ@$k$: task success within $k$ replans (\%)")
     return text + (" " + "; ".join(said) + "." if said else "")
+
+
+def two_column_document(fragment: str) -> str:
+    """A standalone two-column article (10 pt) around compact table fragments: the page the
+    ``column`` and ``wide`` layouts are made for (compiles with ``pdflatex``)."""
+    return "\n".join(
+        [
+            r"\documentclass[twocolumn]{article}",
+            r"\usepackage{booktabs}",
+            r"\usepackage{tabularx}",
+            r"\pagestyle{empty}",
+            r"\begin{document}",
+            fragment.rstrip("\n"),
+            r"\end{document}",
+            "",
+        ]
+    )

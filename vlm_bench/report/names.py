@@ -108,5 +108,5 @@ def relabel(frame: pd.DataFrame, by: By, labels: Mapping[str, str]) -> pd.DataFr
         short = local_path_name(str(value))
         names[value] = given[0] if given else (short if short != str(value) else value)
     if len(set(names.values())) == len(names):
-        out[key] = out[key].map(names)
+        out[key] = frame[key].map(names)
     return out

@@ -62,6 +62,7 @@ def _bars(
     labels: list[str],
     metrics: list[str],
     partial: dict[tuple[object, ...], str] | None = None,
+    legend_at: float = -0.12,
 ) -> None:
     """Grouped bars; a system in ``partial`` (its Overall misses groups: the groups it lacks)
     gets hatched bars and a † legend entry naming them."""
@@ -98,7 +99,7 @@ def _bars(
         fontsize=8,
         ncols=min(len(systems), 4),
         loc="upper center",
-        bbox_to_anchor=(0.5, -0.12),
+        bbox_to_anchor=(0.5, legend_at),
         frameon=False,
     )
 
@@ -183,20 +184,27 @@ def sector_labels(frame: pd.DataFrame, sectors: list[str]) -> list[str]:
 def plot_loc_by_direction(report: Report, path: Path) -> Path:
     """Grouped bars of S_loc per first-move sector with task-clustered intervals."""
     plt = _pyplot()
+    fig = loc_by_direction_figure(report)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
+def loc_by_direction_figure(report: Report) -> Any:
+    """The figure of :func:`plot_loc_by_direction` (laid out, not saved)."""
+    plt = _pyplot()
     by = list(report.options.by)
     table = loc_by_direction(report)
     sectors = [s for s in SECTORS if not table.empty and s in set(table["metric"])]
     fig, ax = plt.subplots(figsize=(10, 4.6))
     if sectors:
         labels = sector_labels(report.frame, sectors)
-        _bars(ax, table, by, labels, sectors)
+        _bars(ax, table, by, labels, sectors, legend_at=-0.24)  # below three-line labels
         ax.tick_params(axis="x", labelsize=8)
     ax.set_ylabel("S_loc")
     ax.set_title("S_loc by the GT's first horizontal move (UAV body frame)")
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return fig
 
 
 def write_plots(report: Report, folder: Path) -> list[Path]:

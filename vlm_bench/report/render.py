@@ -8,7 +8,12 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from vlm_bench.report.contents import Report
 from vlm_bench.report.groups import Grouping
 from vlm_bench.report.latex import latex_document, summary_latex, table_notes
-from vlm_bench.report.latex_compact import compact_caption, compact_latex, latex_columns
+from vlm_bench.report.latex_compact import (
+    compact_caption,
+    compact_latex,
+    latex_columns,
+    two_column_document,
+)
 from vlm_bench.report.names import display_names
 from vlm_bench.report.summary import table_values
 from vlm_bench.report.tables import summary_markdown
@@ -52,7 +57,9 @@ def render_tables(report: Report) -> str | bytes:
         names = display_names(report.frame, by)
         floats = [_latex_float(report, g, names) for g in report.groupings]
         text = "\n".join(floats)
-        return latex_document(text) if options.standalone else text
+        if not options.standalone:
+            return text
+        return latex_document(text) if options.layout == "paper" else two_column_document(text)
     parts = ["# vlm-bench report\n"]
     for g in report.groupings:
         title = "Our four suites" if g.name == "suites" else "The paper's three columns"
