@@ -5,6 +5,7 @@ gallery index in task/seed order, and piped listings that never cut an id."""
 from __future__ import annotations
 
 import io
+import itertools
 import subprocess
 import sys
 from collections.abc import Callable
@@ -147,7 +148,7 @@ def test_sector_labels_do_not_overlap(
         labels = [t for t in fig.axes[0].get_xticklabels() if t.get_text()]
         assert len(labels) == len(HORIZONTAL_DIRECTIONS)
         boxes = [t.get_window_extent(renderer) for t in labels]
-        for left, right in zip(boxes, boxes[1:], strict=False):
+        for left, right in itertools.pairwise(boxes):
             assert left.x1 < right.x0, (left, right)
     finally:
         plt.close(fig)
