@@ -145,6 +145,10 @@ def run(
         config = run_config(**options)
     elif options:
         raise ConfigError("give a RunConfig or keyword options, not both")
+    if execution is not None and execution.backend == "ray":  # before the folder is written
+        from vlm_bench.runner.executions_ray import check_ray_address
+
+        check_ray_address(execution.ray_address)
     outcome = run_benchmark(
         config,
         run_dir_for(config, out, run_name),
