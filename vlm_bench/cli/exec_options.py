@@ -32,7 +32,7 @@ ExecStall = Annotated[
     float | None,
     typer.Option(
         min=0.001,
-        help="Give up the executions in flight when none finishes for this long (s; default 900): "
+        help="Give up the executions in flight when none finishes for this long (s; default 600): "
         "a hung worker or a lost node; a resume runs them again.",
     ),
 ]
