@@ -115,8 +115,8 @@ def report(
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
     from vlm_bench.cli.options import parse_suite
     from vlm_bench.report.make import build_report, warnings, write_outputs
-    from vlm_bench.report.render import render_tables
     from vlm_bench.report.names import parse_labels
+    from vlm_bench.report.render import render_tables
     from vlm_bench.report.report_options import report_options
 
     options = report_options(
