@@ -155,6 +155,10 @@ def run(
 
         given = set(options) if options else set(config.model_fields_set)
         config = with_protocol(config, protocol, given)
+    if execution is not None and execution.backend == "ray":  # before the folder is written
+        from vlm_bench.runner.executions_ray import check_ray_address
+
+        check_ray_address(execution.ray_address)
     outcome = run_benchmark(
         config,
         run_dir_for(config, out, run_name),

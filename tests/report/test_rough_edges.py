@@ -100,7 +100,7 @@ def test_sector_labels_count_episodes_and_tasks(runs: list[str]) -> None:
     sector = frame["first_move"].dropna().iloc[0]
     (label,) = sector_labels(frame, [sector])
     # Both tasks start with the same GT move in the fixture: 2 tasks x 2 seeds x 2 instructions.
-    assert label == f"{sector}\n8 ep., 2 tasks"
+    assert label == f"{sector}\n8 ep.\n2 tasks"
 
 
 def test_episode_frame_types(runs: list[str], tmp_path: Path) -> None:

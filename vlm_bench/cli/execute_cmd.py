@@ -83,11 +83,15 @@ def _read_plan(plan: str | None) -> tuple[str | None, str]:
     """(plan text or None for the GT plan, its source name)."""
     if plan is None or plan.strip().lower() == "gt":
         return None, "GT"
+    from vlm_bench.catalog.files import not_utf8
+
     path = Path(plan)
     try:
-        return path.read_text(encoding="utf-8", errors="replace"), path.name
+        return path.read_text(encoding="utf-8"), path.name
     except OSError as exc:
         raise ConfigError(f"cannot read plan file {plan}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:  # a garbled step must not run
+        raise ConfigError(f"plan file {plan}: {not_utf8(exc)}") from None
 
 
 def execute(
@@ -115,8 +119,9 @@ def execute(
         typer.Option(help="Write a video: .mp4 (needs the video extra) or .gif."),
     ] = None,
     camera: Annotated[
-        str, typer.Option(help="Camera filmed: uav, wrist, overhead, side.")
-    ] = "side",
+        str | None,
+        typer.Option(help="Camera filmed with --video: uav, wrist, overhead, side (default)."),
+    ] = None,
     fps: Annotated[float, typer.Option(help="Video frames per second (at most 20).")] = 10.0,
     size: Annotated[int, typer.Option(help="Video frame side in pixels.")] = 480,
     shadows: Annotated[
@@ -132,6 +137,8 @@ def execute(
 
     finite("--uav-noise", uav_noise)
     finite("--fps", fps)
+    if video is None and camera is not None:
+        raise ConfigError(f"--camera {camera} chooses the camera of --video; give --video too")
     if video is not None:  # before the simulation: its outcome must not be lost to a bad path
         writable_file("--video", video, make_folder=False)
     text, source = _read_plan(plan)
@@ -144,7 +151,7 @@ def execute(
         instruction=parse_variant(variant),
         uav_noise=uav_noise,
         video=video,
-        camera=camera,
+        camera=camera or "side",
         fps=fps,
         size=size,
         shadows=shadows,

@@ -10,6 +10,8 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from vlm_bench.cli.options import table_console
+
 if TYPE_CHECKING:
     from vlm_bench.types.model_card import ModelCard
 
@@ -34,14 +36,16 @@ def _listing() -> None:
     cards = Table(
         title="Model cards (--model <card>; vlm-bench models <card>)", title_justify="left"
     )
-    for column in ("card", "model", "checkpoint", "backend", "paper"):
+    cards.add_column("card", no_wrap=True)  # an id to copy: never cut
+    for column in ("model", "checkpoint", "backend", "paper"):
         cards.add_column(column, overflow="fold")
     for card in model_cards().values():
         cards.add_row(
             card.name, card.title, card.hub_id, card.backend, "yes" if card.in_paper else "no"
         )
-    console.print(backends)
-    console.print(cards)
+    shown = table_console(console)  # piped: as wide as the rows, nothing cut
+    shown.print(backends)
+    shown.print(cards)
 
 
 def _sampling(card: ModelCard) -> str:

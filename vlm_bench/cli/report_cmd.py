@@ -48,13 +48,35 @@ def report(
     fit_width: Annotated[
         bool, typer.Option("--fit-width", help="LaTeX: scale each table to the text width.")
     ] = False,
+    layout: Annotated[
+        str,
+        typer.Option(
+            help="LaTeX: paper (the paper's full table), column (fits \\columnwidth) or wide "
+            "(fits a two-column table*), the last two unscaled."
+        ),
+    ] = "paper",
+    columns: Annotated[
+        str | None,
+        typer.Option(help="LaTeX: the metrics shown, comma-separated (Tot,Succ,Exec,Loc,...)."),
+    ] = None,
     label: Annotated[
         list[str] | None,
         typer.Option(
             metavar="RUN=NAME",
-            help="LaTeX: row name for a run (repeatable); default the model card's name.",
+            help="Display name for a run or row value (repeatable), in every table, plot and "
+            "gallery; LaTeX rows default to the model card's name.",
         ),
     ] = None,
+    suite: Annotated[
+        list[str] | None, typer.Option(help="Only episodes of this suite (repeatable; e.g. lh).")
+    ] = None,
+    task: Annotated[
+        list[str] | None, typer.Option(help="Only episodes of this task (repeatable).")
+    ] = None,
+    common: Annotated[
+        bool,
+        typer.Option("--common", help="Only the episodes every run has (comparable rows)."),
+    ] = False,
     sort: Annotated[str, typer.Option(help="Row order: given, or total (overall Tot).")] = "given",
     stats: Annotated[
         bool, typer.Option("--stats/--no-stats", help="Intervals, parse tiers, error codes.")
@@ -91,8 +113,10 @@ def report(
     ] = False,
 ) -> None:
     """Print the paper's VLM table (and statistics) for saved runs; write LaTeX, CSV, plots."""
-    from vlm_bench.report.make import build_report, render_tables, warnings, write_outputs
+    from vlm_bench.cli.options import parse_suite
+    from vlm_bench.report.make import build_report, warnings, write_outputs
     from vlm_bench.report.names import parse_labels
+    from vlm_bench.report.render import render_tables
     from vlm_bench.report.report_options import report_options
     from vlm_bench.report.results_table import print_results_files, standalone_results
 
@@ -109,7 +133,12 @@ def report(
         out=out,
         standalone=standalone,
         fit_width=fit_width,
+        layout=layout,
+        columns=_split(columns or ""),
         labels=parse_labels(tuple(label or ())),
+        suites=tuple(str(parse_suite(s)) for s in suite or ()),
+        tasks=tuple(task or ()),
+        common=common,
         sort=sort,
         stats=stats,
         paired=paired,

@@ -1,25 +1,29 @@
-"""Planning commands: run, rescore, score (``execute`` lives in :mod:`.execute_cmd`). Heavy
-imports happen inside the commands."""
+"""The ``run`` command (``rescore`` and ``score``: :mod:`.score_cmds`; ``execute``:
+:mod:`.execute_cmd`). Heavy imports happen inside the commands."""
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import Console
 
+from vlm_bench.cli import score_cmds
+from vlm_bench.cli.exec_options import (
+    ExecBackend,
+    ExecStall,
+    ExecWorkers,
+    RayAddress,
+    execution_options,
+)
 from vlm_bench.cli.exit_codes import EXIT_CODES_HELP, ExitCode
 from vlm_bench.cli.options import (
     finite,
-    parse_seed,
     parse_seeds,
     parse_suite,
     parse_variant,
     perturb_options,
-    table_console,
 )
 from vlm_bench.cli.prompt_options import (
     DEFAULT_BATCH_SIZE,
@@ -38,64 +42,12 @@ from vlm_bench.cli.prompt_options import (
     prompt_fields,
     run_default,
 )
-from vlm_bench.cli.protocol_option import ProtocolOption, apply_protocol, protocol_line
+from vlm_bench.cli.protocol_option import ProtocolOption, apply_protocol
+from vlm_bench.cli.run_summary import print_run_summary
 from vlm_bench.errors import ConfigError, option_error
 
 if TYPE_CHECKING:
-    from vlm_bench.api import RunResult
-    from vlm_bench.types.execution import ExecutionOptions
     from vlm_bench.types.task import InstructionVariant
-
-console = Console()
-ExecWorkers = Annotated[
-    int | None,
-    typer.Option(
-        min=0,
-        help="Plans executed at once (default: the machine's cores; 0 = one by one in this "
-        "process).",
-    ),
-]
-ExecBackend = Annotated[
-    str, typer.Option(help="Where plans are executed: process (this machine) or ray.")
-]
-RayAddress = Annotated[
-    str | None,
-    typer.Option(help="Ray cluster to execute on (--exec-backend ray; default: a local one)."),
-]
-ExecStall = Annotated[
-    float | None,
-    typer.Option(
-        min=0.001,
-        help="Give up the executions in flight when none finishes for this long (s; default 900): "
-        "a hung worker or a lost node; a resume runs them again.",
-    ),
-]
-
-
-def execution_options(
-    workers: int | None, backend: str, address: str | None, stall_s: float | None = None
-) -> ExecutionOptions:
-    """``--exec-workers/--exec-backend/--ray-address/--exec-stall-s`` checked (before anything
-    is written)."""
-    import importlib.util
-
-    from vlm_bench.types.execution import ExecutionOptions
-
-    if backend not in ("process", "ray"):
-        raise ConfigError(f"unknown --exec-backend {backend!r}; use process or ray")
-    if address is not None and backend != "ray":
-        raise ConfigError("--ray-address needs --exec-backend ray")
-    if backend == "ray" and importlib.util.find_spec("ray") is None:
-        raise ConfigError("--exec-backend ray needs Ray: pip install -e '.[ray]'")
-    if backend == "ray":
-        from vlm_bench.runner.executions_ray import check_ray_address
-
-        check_ray_address(address)
-    kind: Literal["process", "ray"] = "ray" if backend == "ray" else "process"
-    options = ExecutionOptions(workers=workers, backend=kind, ray_address=address)
-    if stall_s is None:
-        return options
-    return options.model_copy(update={"stall_s": finite("--exec-stall-s", stall_s)})
 
 
 def sampling_settings(model: str, temperature: float) -> dict[str, float | int]:
@@ -120,49 +72,6 @@ def parse_instructions(text: str) -> tuple[InstructionVariant, ...]:
     if text.strip().lower() == "both":
         return ("explicit", "implicit")
     return (parse_variant(text),)
-
-
-def _print_summary(result: RunResult) -> None:
-    from vlm_bench.report import summary_rich
-    from vlm_bench.types.execution import FailureCode
-    from vlm_bench.types.protocol_match import manifest_protocol
-
-    # Piped: no terminal width to respect, so the table is not wrapped or cut.
-    shown = table_console(console)
-    shown.print(summary_rich(result.summary, title=result.run_id, width=shown.width))
-    stats = result.stats
-    line = f"{result.run_dir}: summary.md, summary.csv, records.jsonl ({stats.total} episodes"
-    if stats.skipped:
-        line += f", {stats.skipped} resumed"
-    if stats.cached:
-        line += f", {stats.cached} from the response cache"
-    if stats.executed:
-        line += f", {stats.executed} plan(s) executed"
-    console.print(line + ")", highlight=False, soft_wrap=True)
-    console.print(protocol_line(manifest_protocol(result.manifest)), highlight=False)
-    unanswered = [r for r in result.records if not r.ok]
-    if unanswered:
-        first = unanswered[0]
-        console.print(
-            f"[yellow]{len(unanswered)} of {len(result.records)} episode(s) have no result "
-            f"(the backend failed after its retries, or an execution was lost; e.g. {first.key}: "
-            f"{first.backend_error}); re-run the same command to retry them[/]",
-            soft_wrap=True,
-            highlight=False,
-        )
-    crashed = [
-        (r.key, r.execution.failure_reason)
-        for r in result.records
-        if r.execution is not None and r.execution.failure_code is FailureCode.EXECUTOR_CRASH
-    ]
-    if crashed:
-        key, reason = crashed[0]
-        console.print(
-            f"[yellow]{len(crashed)} execution(s) raised in the executor (recorded as "
-            f"failures), e.g. {key}: {reason}[/]",
-            soft_wrap=True,
-            highlight=False,
-        )
 
 
 def run(
@@ -307,86 +216,12 @@ def run(
         )
         code = ExitCode.TERMINATED if terminated else ExitCode.INTERRUPTED
         raise typer.Exit(code) from None
-    _print_summary(result)
+    print_run_summary(result)
     if any(not r.ok for r in result.records):
         raise typer.Exit(ExitCode.UNANSWERED)
 
 
-def rescore(
-    run_dir: Annotated[
-        str, typer.Argument(metavar="RUN", help="Run folder, or a name under results/.")
-    ],
-    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
-    exec_workers: ExecWorkers = None,
-    exec_backend: ExecBackend = "process",
-    ray_address: RayAddress = None,
-) -> None:
-    """Recompute parses, scores and executions from the response cache (no model calls)."""
-    from vlm_bench.api import rescore as api_rescore
-    from vlm_bench.resources import results_dir
-    from vlm_bench.sim.mujoco_log import route_mujoco_log
-
-    route_mujoco_log()  # rescoring executes plans
-    path = Path(run_dir)
-    if not path.exists() and (results_dir() / run_dir).exists():
-        path = results_dir() / run_dir
-    execution = execution_options(exec_workers, exec_backend, ray_address)
-    result = api_rescore(path, progress=progress, execution=execution)
-    _print_summary(result)
-    console.print(f"{result.stats.changed} record(s) changed", highlight=False)
-    if result.stats.torn_bytes:
-        console.print(
-            f"[yellow]records.jsonl ended in a torn line ({result.stats.torn_bytes} bytes, a "
-            "crash mid-write), now cut off: its episode has no record; re-run the run command "
-            "to score it again from the response cache[/]",
-            soft_wrap=True,
-            highlight=False,
-        )
-
-
-def _score_text(data: dict[str, Any]) -> None:
-    scores = data["scores"]
-    console.print(
-        f"[bold]{data['task_id']}[/] seed {data['seed']} · {data['instruction']} · "
-        f"parse: {data['parse']['tier']}"
-    )
-    console.print("plan:    " + json.dumps(data["plan"]), highlight=False, soft_wrap=True)
-    console.print("GT plan: " + json.dumps(data["gt_plan"]), highlight=False, soft_wrap=True)
-    console.print(
-        "  ".join(
-            f"{k}={scores[k]:.1f}" for k in ("s_plan", "s_loc", "s_obj", "s_skill", "s_total")
-        )
-        + f"  succ={scores['succ']}",
-        highlight=False,
-    )
-    console.print("errors: " + (", ".join(data["error_tags"]) or "none"), highlight=False)
-
-
-def score(
-    task: Annotated[str, typer.Argument(help="Task id.")],
-    output: Annotated[Path, typer.Option(help="File holding the raw model output.")],
-    seed: Annotated[str, typer.Option(help="Episode seed.")] = "0",
-    instruction: Annotated[str, typer.Option(help="explicit or implicit.")] = "explicit",
-    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-) -> None:
-    """Score one raw model output file against an episode's GT plan."""
-    from vlm_bench.api import score_output
-
-    try:
-        text = output.read_text(encoding="utf-8", errors="replace")
-    except OSError as exc:
-        raise ConfigError(f"cannot read {output}: {exc.strerror}") from None
-    data = score_output(task, parse_seed(seed), text, parse_variant(instruction)).model_dump(
-        mode="json"
-    )
-    if as_json:
-        typer.echo(json.dumps(data, indent=1))
-    else:
-        _score_text(data)
-
-
 def register(app: typer.Typer) -> None:
-    """Add the planning commands to ``app``."""
+    """Add the planning commands (run, rescore, score) to ``app``."""
     app.command(epilog=EXIT_CODES_HELP)(run)
-    app.command()(rescore)
-    app.command()(score)
+    score_cmds.register(app)

@@ -15,6 +15,7 @@ from vlm_bench.cli.options import (
     parse_seed,
     parse_suite,
     parse_variant,
+    table_console,
     writable_file,
     writable_folder,
 )
@@ -52,7 +53,7 @@ def tasks(
         table.add_column(col)
     for i, t in enumerate(chosen, 1):
         table.add_row(str(i), t.id, t.name, t.suite.label, t.environment, str(len(t.arm_steps)))
-    console.print(table)
+    table_console(console).print(table)  # piped: as wide as the rows, nothing cut
     counts: dict[str, int] = {}
     for t in chosen:
         counts[t.suite.label] = counts.get(t.suite.label, 0) + 1

@@ -16,8 +16,9 @@ from vlm_bench.report.diagnostics import (
 )
 from vlm_bench.report.groups import grouping, paper_grouping
 from vlm_bench.report.load import DERIVED, SETTINGS, load
-from vlm_bench.report.make import build_report, render_tables
+from vlm_bench.report.make import build_report
 from vlm_bench.report.paired import paired_comparison, paired_table, sign_test
+from vlm_bench.report.render import render_tables
 from vlm_bench.report.report_options import report_options
 from vlm_bench.report.summary import EXEC_VALUES, SUMMARY_COLUMNS, summary_long, summary_wide
 from vlm_bench.report.tables import summary_markdown, summary_rich, write_summary

@@ -20,7 +20,7 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.report_options import BOOT_SEED, CI_LEVEL, N_BOOT
-from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns
+from vlm_bench.report.summary import BOTH, By, by_columns, is_percent
 
 CI_METRICS = ("S_plan", "S_loc", "S_obj", "S_skill", "S_total", "Succ")
 """Metrics that get intervals by default (``exec_success`` and ``S_task`` too when present)."""
@@ -46,7 +46,7 @@ class Episodes:
     def of(cls, rows: pd.DataFrame, metric: str, group_column: str) -> Episodes:
         """Episodes with a value of ``metric``; ``Succ`` and ``exec_success`` in percent."""
         rows = rows[rows[metric].notna()]
-        value = rows[metric].astype(float).to_numpy() * (100.0 if metric in PERCENT else 1.0)
+        value = rows[metric].astype(float).to_numpy() * (100.0 if is_percent(metric) else 1.0)
         codes, tasks = pd.factorize(rows["task_id"])
         strata = rows.groupby("task_id", sort=False)[group_column].first().reindex(tasks)
         return cls(

@@ -66,6 +66,26 @@ S_loc (docs/metrics.md#padding); both are NaN in records from before version 3, 
 the count, and ``Move_ratio`` where the GT has no move."""
 OUTCOMES = ("Succ", "exec_success")
 """Per-episode outcomes: nullable booleans in the frame, percentages in the tables."""
+RECOVERED = "Recovered"
+"""Closed loop: the episode failed round 0 and succeeded in a later one (nullable boolean;
+<NA> where round 0 succeeded or the run is open-loop); its mean is the recovery rate."""
+
+
+def succ_at_column(k: int) -> str:
+    """Closed loop: the column of Succ@k (the task succeeded within rounds 0..k; a nullable
+    boolean, <NA> for open-loop runs). Succ@0 is round 0's ``exec_success``."""
+    return f"Succ@{k}"
+
+
+def loop_columns(columns: Iterable[str]) -> tuple[str, ...]:
+    """The closed-loop columns among ``columns``: Succ@1..K (Succ@0 is ``exec_success``) and
+    :data:`RECOVERED`, in that order."""
+    names = set(columns)
+    ks = sorted(int(c.split("@", 1)[1]) for c in names if c.startswith("Succ@") and c[5:].isdigit())
+    found = tuple(succ_at_column(k) for k in ks if k > 0)
+    return (*found, RECOVERED) if found and RECOVERED in names else found
+
+
 TOKENS = ("prompt_tokens", "completion_tokens")
 
 
@@ -107,6 +127,15 @@ def _padding_values(scores: PlanScores | None) -> dict[str, float | None]:
     return {"Move_ratio": ratio, "S_loc_prec": scores.s_loc_precision}
 
 
+def _loop_values(record: EpisodeRecord) -> dict[str, object]:
+    loop = record.loop
+    if loop is None or not record.ok:
+        return {}
+    values: dict[str, object] = {succ_at_column(k): ok for k, ok in enumerate(loop.succ_at)}
+    values[RECOVERED] = None if loop.succ_at[0] else loop.recovered
+    return values
+
+
 def _row(record: EpisodeRecord, executed: bool, scoring: ScoringConfig) -> dict[str, object]:
     scores = record.scores
     floor = blind_s_loc(record, scoring) if scores else None
@@ -136,6 +165,7 @@ def _row(record: EpisodeRecord, executed: bool, scoring: ScoringConfig) -> dict[
         "prompt_tokens": record.prompt_tokens,
         "completion_tokens": record.completion_tokens,
         "backend_error": record.backend_error,
+        **_loop_values(record),
     }
 
 
@@ -162,17 +192,21 @@ def records_frame(
             (``S_loc_blind``, see :mod:`vlm_bench.report.floors`); default options otherwise.
 
     Score columns are NaN (and ``Succ`` is None) for records whose backend failed
-    (``status == "error"``); see :data:`EXEC_METRICS` for the execution columns.
+    (``status == "error"``); see :data:`EXEC_METRICS` for the execution columns. Where some
+    run is closed-loop, ``Succ@0``..``Succ@K`` (:func:`succ_at_column`) and :data:`RECOVERED`
+    follow.
     """
     records = list(records)
     runs = {**executing_runs(records), **(executed or {})}
     options = scoring or {}
     rows = [_row(r, runs[r.run_id], options.get(r.run_id, DEFAULT)) for r in records]
-    frame = pd.DataFrame(rows, columns=list(COLUMNS))
+    rounds = max((len(r.loop.succ_at) for r in records if r.loop is not None), default=0)
+    loops = [succ_at_column(k) for k in range(rounds)] + ([RECOVERED] if rounds else [])
+    frame = pd.DataFrame(rows, columns=[*COLUMNS, *loops])
     for col in (*METRICS, "S_loc_blind", "Loc_over_blind", *PADDING, *EXEC_METRICS):
         if col not in OUTCOMES:
             frame[col] = frame[col].astype(float)
-    for col in OUTCOMES:
+    for col in (*OUTCOMES, *loops):
         frame[col] = frame[col].astype("boolean")
     for col in TOKENS:
         frame[col] = frame[col].astype("Int64")

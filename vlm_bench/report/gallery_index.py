@@ -33,6 +33,7 @@ if TYPE_CHECKING:
 
     from vlm_bench.report.gallery_views import ViewSources
     from vlm_bench.report.report_options import ReportOptions
+    from vlm_bench.types.records import EpisodeRecord
 
 INDEX_TEMPLATE = "gallery_index.html.j2"
 COMPARE_TEMPLATE = "gallery_compare.html.j2"
@@ -92,11 +93,17 @@ class RunRow:
         )
 
 
+def _episode_order(record: EpisodeRecord) -> tuple[str, int, str]:
+    return (record.task_id, record.seed, record.variant)
+
+
 def write_index(folder: Path, galleries: list[RunGallery]) -> list[Path]:
     """Write the index page and the compare pages; returns their paths."""
     env = _environment()
     folders = [g.page.parent.name for g in galleries]
-    keys = list(dict.fromkeys(c.record.key for g in galleries for c in g.cards))
+    first_cards = {c.record.key: c.record for g in galleries for c in g.cards}
+    # By task, then seed, then instruction: the order a reader looks an episode up in.
+    keys = sorted(first_cards, key=lambda k: _episode_order(first_cards[k]))
     by_key = [{c.record.key: c for c in g.cards} for g in galleries]
     (folder / "compare").mkdir(parents=True, exist_ok=True)
     written = []

@@ -12,72 +12,88 @@ with ``\\raisebox`` instead of ``multirow``, which minimal TeX installations lac
 
 from __future__ import annotations
 
-import math
 import re
 from collections.abc import Mapping, Sequence
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
+from vlm_bench.report.dataframe import loop_columns
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
-from vlm_bench.report.marks import partial_warnings
+from vlm_bench.report.latex_cells import PARTIAL_MARK, best_value, cell, escape, natural_width
+from vlm_bench.report.marks import DIAGNOSTIC_TITLES, fmt_diagnostic
 from vlm_bench.report.summary import (
     BOTH,
+    DIAGNOSTICS,
     TABLE_EXEC_VALUES,
     By,
     by_columns,
     exec_coverage,
+    headline,
     partial_overalls,
     summary_wide,
     table_values,
 )
-from vlm_bench.report.tables import HEADERS, system_headers
+from vlm_bench.report.tables import header, system_headers
 
 INSTRUCTION_SHORT = {"explicit": "Exp.", "implicit": "Imp.", BOTH: "Both"}
-_SPECIAL = re.compile(r"([\\&%$#_{}~^])")
-_REPLACE = {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
 _LOWER = r"\raisebox{-0.6\normalbaselineskip}[0pt][0pt]{%s}"
 _HEAD = r"\raisebox{-1.2\normalbaselineskip}[0pt][0pt]{\textbf{%s}}"
-_PARTIAL = r"\textsuperscript{\dag}"
 _SIZE = r"\footnotesize"
 """Type size of the tables: the paper layout's 24 columns fit a landscape page at standard
 column spacing (``--fit-width`` scales to the text width instead)."""
 
 
-def escape(text: str) -> str:
-    """``text`` with LaTeX's special characters escaped."""
-    return _SPECIAL.sub(lambda m: _REPLACE.get(m.group(1), "\\" + m.group(1)), text)
-
-
-def _metrics(long: pd.DataFrame) -> list[str]:
-    # The paper's columns (ΔLoc is ours; it stays in the Markdown and terminal tables); Exec and
-    # Task only when some row was executed.
+def latex_metrics(long: pd.DataFrame) -> list[str]:
+    """The paper layout's metrics: the paper's columns (ΔLoc and the diagnostics are ours:
+    they stay in the other formats and the table notes); Exec and Task, and the closed loop's
+    Succ@k and Rec, only when some row was executed."""
     executed = "exec_success" in long.columns and long["exec_success"].notna().any()
     return [
         m
         for m in table_values(long)
-        if m != "Loc_over_blind" and (executed or m not in TABLE_EXEC_VALUES)
+        if m != "Loc_over_blind"
+        and m not in DIAGNOSTICS
+        and (executed or m not in TABLE_EXEC_VALUES)
     ]
 
 
-def _best(values: Sequence[float]) -> float:
-    """The column's best (largest) value; NaN when there is no best (all equal, or one row)."""
-    finite = [round(v, 1) for v in values if not math.isnan(v)]
-    return max(finite) if len(set(finite)) > 1 else math.nan
-
-
-def _cell(value: float, best: float, partial: bool = False, count: str = "") -> str:
-    if math.isnan(value):
-        return "--"
-    text = f"{value:.1f}"
-    if count:  # execution over only some of the cell's episodes: never the best either
-        return rf"{text}\,{{\scriptsize({count})}}" + (_PARTIAL if partial else "")
-    if partial:  # a partial Overall is never the best
-        return text + _PARTIAL
-    return (
-        rf"\textbf{{{text}}}"
-        if not math.isnan(best) and round(value, 1) == round(best, 1)
-        else text
-    )
+def table_notes(
+    long: pd.DataFrame,
+    by: By,
+    grouping: Grouping,
+    names: Mapping[tuple[object, ...], str] | None = None,
+) -> list[str]:
+    """The notes under a table, once each: partial Overalls (one sentence naming every such
+    row) and the diagnostics (each system's Overall move ratio and precision-aware S_loc)."""
+    keys, names = by_columns(by), names or {}
+    notes = []
+    partial = partial_overalls(long, keys)
+    if partial:
+        lacking: dict[tuple[object, ...], set[str]] = {}
+        for key, groups in partial.items():
+            lacking.setdefault(tuple(key[:-1]), set()).update(groups)
+        listed = "; ".join(
+            f"{escape(names.get(s, '/'.join(map(str, s))))}: no "
+            + ", ".join(escape(grouping.short.get(g, g)) for g in grouping.order if g in gs)
+            for s, gs in lacking.items()
+        )
+        notes.append(
+            PARTIAL_MARK + rf"Partial Overall, the mean of the groups the row has ({listed}); "
+            "not comparable with complete rows."
+        )
+    shown = [d for d in DIAGNOSTICS if d in long.columns and long[d].notna().any()]
+    if shown:
+        overall = headline(long[long[grouping.column] == OVERALL], keys)
+        parts = []
+        for row in overall.to_dict("records"):
+            system = tuple(row[k] for k in keys)
+            values = " / ".join(fmt_diagnostic(d, row[d]) for d in shown)
+            parts.append(f"{escape(names.get(system, '/'.join(map(str, system))))} {values}")
+        what = " / ".join(DIAGNOSTIC_TITLES[d] for d in shown)
+        notes.append(
+            f"Diagnostics (Overall; not the paper's metrics), {what}: " + "; ".join(parts) + "."
+        )
+    return notes
 
 
 def _blocks(wide: pd.DataFrame, n_keys: int) -> list[tuple[tuple[object, ...], list[str]]]:
@@ -109,6 +125,7 @@ def summary_latex(
     label: str = "tab:vlm_planning",
     names: Mapping[tuple[object, ...], str] | None = None,
     fit_width: bool = False,
+    metrics: Sequence[str] | None = None,
     note: str = "",
 ) -> str:
     """A ``table*`` float in the paper layout (see the module docstring).
@@ -120,12 +137,13 @@ def summary_latex(
         names: Display name per system (:func:`~vlm_bench.report.names.display_names`);
             default the ``by`` values joined by '/'.
         fit_width: Scale the tabular to the text width (default: natural size).
+        metrics: The metrics of each group (default: :func:`latex_metrics`).
         note: Text appended to the caption (the runs' protocol).
     """
     keys = by_columns(by)
     names = names or {}
     wide = summary_wide(long, keys, grouping)
-    metrics = _metrics(long)
+    metrics = list(metrics) if metrics else latex_metrics(long)
     groups = [g for g in dict.fromkeys(c[0] for c in wide.columns) if g != OVERALL]
     blocks = _blocks(wide, len(keys)) if not wide.empty else []
     group_rows = [(*s, r) for s, rows in blocks for r in rows]
@@ -139,13 +157,13 @@ def summary_latex(
 
     complete = [r for r in overall_rows if r not in partial]
     best = {
-        (g, m): _best([float(wide.loc[r, (g, m)]) for r in group_rows if not count(r, g, m)])
+        (g, m): best_value([float(wide.loc[r, (g, m)]) for r in group_rows if not count(r, g, m)])
         for g in groups
         for m in metrics
     }
     best.update(
         {
-            (OVERALL, m): _best(
+            (OVERALL, m): best_value(
                 [float(wide.loc[r, (OVERALL, m)]) for r in complete if not count(r, OVERALL, m)]
             )
             for m in metrics
@@ -161,13 +179,13 @@ def summary_latex(
         rf"\cmidrule(lr){{{lead + 1 + i * width}-{lead + (i + 1) * width}}}"
         for i in range(len(titles))
     )
-    columns = [r"\textbf{Tot}" if m == "S_total" else HEADERS[m] for m in metrics]
+    columns = [r"\textbf{Tot}" if m == "S_total" else header(m) for m in metrics]
     sub = ["/".join(system_headers(keys)), "Instr.", *(columns * len(titles))]
     body: list[list[str]] = []
     lines = [
         r"\begin{table*}[t]",
         r"\centering",
-        rf"\caption{{{_caption_with(caption or _default_caption(long, grouping), note)}}}",
+        rf"\caption{{{caption_with(caption or _default_caption(long, grouping), note)}}}",
         rf"\label{{{label}}}",
         _SIZE,
         *([r"\resizebox{\textwidth}{!}{%"] if fit_width else []),
@@ -187,14 +205,14 @@ def summary_latex(
             cells = [label_cell, INSTRUCTION_SHORT.get(row, escape(row))]
             key = (*system, row)
             cells += [
-                _cell(float(wide.loc[key, (g, m)]), best[(g, m)], count=count(key, g, m))
+                cell(float(wide.loc[key, (g, m)]), best[(g, m)], count=count(key, g, m))
                 for g in groups
                 for m in metrics
             ]
             if first or not span:
                 source = overall_rows[b] if span else key
                 overall = [
-                    _cell(
+                    cell(
                         float(wide.loc[source, (OVERALL, m)]),
                         best[(OVERALL, m)],
                         source in partial,
@@ -212,13 +230,15 @@ def summary_latex(
     lines += [r"\bottomrule", r"\end{tabular}" + ("}" if fit_width else "")]
     if not fit_width:
         lines.insert(0, f"% natural width about {natural_width([*body, sub]):.0f}pt")
-    for warning in partial_warnings(long, keys, grouping):
-        lines.append(r"\par\smallskip\footnotesize " + escape(warning).replace("†", _PARTIAL))
+    notes = table_notes(long, keys, grouping, names)
+    if notes:
+        lines.append(r"\par\smallskip\parbox{\linewidth}{\scriptsize " + " ".join(notes) + "}")
     lines.append(r"\end{table*}")
     return "\n".join(lines) + "\n"
 
 
-def _caption_with(caption: str, note: str) -> str:
+def caption_with(caption: str, note: str) -> str:
+    """``caption`` with ``note`` (plain text, escaped here) appended."""
     if not note.strip():
         return caption
     return f"{caption} {escape(note)}"
@@ -235,6 +255,11 @@ def _default_caption(long: pd.DataFrame, grouping: Grouping) -> str:
     )
     if executed:
         text += r" Exec: execution success (\%); Task: sub-goals completed (S\textsubscript{task})."
+    if loop_columns(long.columns):
+        text += (
+            r" Closed loop: Succ@$k$, task success within $k$ replans (\%); Rec: share of the "
+            r"round-0 failures recovered later (\%)."
+        )
     return text
 
 
@@ -265,20 +290,3 @@ def latex_document(fragment: str) -> str:
 _A4_LANDSCAPE_PT = 842.0
 _MARGIN_PT = 28.0
 _WIDTH = re.compile(r"^% natural width about (\d+)pt$", re.M)
-_SEP_PT = 12.0
-"""Space between columns: twice the standard \\tabcolsep (6 pt)."""
-_CHAR_PT = 4.2
-"""Mean width of a character of the table's type (footnotesize digits 4.25 pt, period 2.4 pt)."""
-
-
-def _plain(cell: str) -> str:
-    """The visible text of a cell, roughly: commands and braces dropped."""
-    text = re.sub(r"\\raisebox\{[^}]*\}\[0pt\]\[0pt\]", "", cell)
-    text = re.sub(r"\\(textbf|textsuperscript|scriptsize|dag|,)", "", text)
-    return text.replace("{", "").replace("}", "").replace("\\", "")
-
-
-def natural_width(rows: Sequence[Sequence[str]]) -> float:
-    """An upper estimate of a tabular's natural width in points from its body cells."""
-    columns = zip(*rows, strict=True)
-    return sum(_SEP_PT + _CHAR_PT * max(len(_plain(c)) for c in col) for col in columns)

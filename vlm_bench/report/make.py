@@ -25,12 +25,14 @@ from vlm_bench.report.diagnostics import (
     parse_tier_rates,
 )
 from vlm_bench.report.groups import grouping
-from vlm_bench.report.latex import latex_document, summary_latex
+from vlm_bench.report.latex_compact import latex_columns
 from vlm_bench.report.load import load
 from vlm_bench.report.marks import partial_warnings
-from vlm_bench.report.names import display_names
+from vlm_bench.report.names import relabel
+from vlm_bench.report.narrow import narrow
 from vlm_bench.report.paired import find_system, paired_table
-from vlm_bench.report.protocol_notes import protocol_note, protocol_warnings, row_protocols
+from vlm_bench.report.protocol_notes import protocol_warnings
+from vlm_bench.report.render import render_tables
 from vlm_bench.report.report_options import ReportOptions
 from vlm_bench.report.sections import Section, ci_section, code_section, pair_section, tier_section
 from vlm_bench.report.summary import (
@@ -38,10 +40,7 @@ from vlm_bench.report.summary import (
     sort_systems,
     summary_long,
     system_order,
-    table_values,
 )
-from vlm_bench.report.tables import summary_markdown
-from vlm_bench.report.text import frame_markdown
 from vlm_bench.storage.jsonl import write_text_atomic
 
 if TYPE_CHECKING:
@@ -98,17 +97,21 @@ def build_report(options: ReportOptions) -> Report:
     _check_paths(options)
     _check_extras(options)
     frame = load(*options.runs, mixed_versions=options.mixed_versions)
+    frame = narrow(frame, options.suites, options.tasks, options.common)
     by = list(options.by)
     _check_by(frame, options.by)
     names = ["suites", "paper"] if options.grouping == "both" else [options.grouping]
     groupings = [grouping(n) for n in names]
+    frame = relabel(frame, by, options.labels)  # an unknown --label fails before any file
     if options.paired is not None:
-        find_system(frame, by, options.paired)
-    display_names(frame, by, options.labels)  # an unknown --label fails before any file
+        find_system(frame, by, _paired(options))
     tables = {}
     for g in groupings:
         long = summary_long(frame, by, g)
         tables[g.name] = sort_systems(long, by, g) if options.sort == "total" else long
+    if options.format == "latex":
+        for g in groupings:
+            latex_columns(tables[g.name], options.layout, options.columns)  # checks --columns
     report = Report(options, frame, groupings, tables)
     if options.stats or options.plots is not None:
         for g in groupings:
@@ -118,9 +121,15 @@ def build_report(options: ReportOptions) -> Report:
     if options.stats:
         _add_sections(report)
     if options.paired is not None:
-        _add_paired(report, options.paired)
+        _add_paired(report, _paired(options))
     _add_closed_loop(report)
     return report
+
+
+def _paired(options: ReportOptions) -> str:
+    """The ``--paired`` system as the frame names it (its label, where one was given)."""
+    assert options.paired is not None
+    return options.labels.get(options.paired, options.paired)
 
 
 def _add_closed_loop(report: Report) -> None:
@@ -209,73 +218,11 @@ def _add_paired(report: Report, name: str) -> None:
     )
 
 
-def long_with_cis(report: Report) -> pd.DataFrame:
-    """Every grouping's long summary stacked (``grouping``, ``group`` columns), with
-    ``<metric>_lo``/``_hi`` interval columns where intervals were computed and each row's
-    ``protocol`` (its runs' protocols joined by ``+``)."""
-    by = list(report.options.by)
-    parts = []
-    for g in report.groupings:
-        long = report.tables[g.name].rename(columns={g.column: "group"})
-        cis = report.cis.get(g.name)
-        if cis is not None and not cis.empty:
-            bounds = cis.rename(columns={g.column: "group"}).pivot_table(
-                index=[*by, "instruction", "group"],
-                columns="metric",
-                values=["lo", "hi"],
-                sort=False,
-                dropna=False,
-            )
-            bounds.columns = [f"{m}_{side}" for side, m in bounds.columns]
-            ordered = [f"{m}_{s}" for m in table_values(long) for s in ("lo", "hi")]
-            bounds = bounds.reindex(columns=[c for c in ordered if c in bounds.columns])
-            long = long.merge(bounds.reset_index(), on=[*by, "instruction", "group"], how="left")
-        parts.append(long.assign(grouping=g.name))
-    out = pd.concat(parts, ignore_index=True)
-    out = out.merge(row_protocols(report.frame, by), on=by, how="left")
-    return out[["grouping", *[c for c in out.columns if c != "grouping"]]]
-
-
 def warnings(report: Report) -> list[str]:
     """What a reader must know beside the numbers: mixed protocols, partial Overalls."""
     by = list(report.options.by)
     partial = [w for g in report.groupings for w in partial_warnings(report.tables[g.name], by, g)]
     return list(dict.fromkeys([*protocol_warnings(report.frame, by), *partial]))
-
-
-def render_tables(report: Report) -> str | bytes:
-    """The tables in ``options.format`` (not ``terminal``: the CLI prints rich tables)."""
-    options, by = report.options, list(report.options.by)
-    fmt = options.format
-    if fmt == "csv":
-        return str(long_with_cis(report).to_csv(index=False, float_format="%.4f"))
-    if fmt == "parquet":
-        return bytes(long_with_cis(report).to_parquet(index=False))
-    if fmt == "latex":
-        names = display_names(report.frame, by, options.labels)
-        floats = [
-            summary_latex(
-                report.tables[g.name],
-                by,
-                g,
-                label=f"tab:vlm_planning_{g.name}",
-                names=names,
-                fit_width=options.fit_width,
-                note=" ".join([protocol_note(report.frame), *protocol_warnings(report.frame, by)]),
-            )
-            for g in report.groupings
-        ]
-        text = "\n".join(floats)
-        return latex_document(text) if options.standalone else text
-    parts = ["# vlm-bench report\n", protocol_note(report.frame) + "\n"]
-    parts.extend(f"**Warning.** {w}\n" for w in protocol_warnings(report.frame, by))
-    for g in report.groupings:
-        title = "Our four suites" if g.name == "suites" else "The paper's three columns"
-        parts.append(f"## {title}\n\n" + summary_markdown(report.tables[g.name], by, g))
-    for section in report.sections:
-        parts.append(f"## {section.title}\n\n" + frame_markdown(section.frame, section.numeric))
-        parts.append(f"{section.caption}\n")
-    return "\n".join(parts)
 
 
 def write_outputs(

@@ -19,6 +19,20 @@ def fmt(value: object) -> str:
     return f"{float(value):.1f}"  # type: ignore[arg-type]
 
 
+DIAGNOSTIC_TITLES = {
+    "Move_ratio": "predicted/GT UAV moves",
+    "S_loc_prec": "precision-aware S_loc",
+}
+"""What the diagnostic columns (:data:`~vlm_bench.report.summary.DIAGNOSTICS`) are, in notes."""
+
+
+def fmt_diagnostic(metric: str, value: object) -> str:
+    """A diagnostic value: the move ratio with two decimals, S_loc with one."""
+    if metric == "Move_ratio" and fmt(value) != "–":
+        return f"{float(value):.2f}"  # type: ignore[arg-type]
+    return fmt(value)
+
+
 PARTIAL = "†"
 """Mark of a partial Overall (a row missing groups of the table), never bold."""
 
@@ -52,7 +66,7 @@ Coverage = dict[tuple[object, ...], tuple[int, int]]
 def cell_text(value: object, metric: str, cell: tuple[object, ...], coverage: Coverage) -> str:
     """A table number; an execution value over only some of the cell's episodes gets the
     executed count beside it ("100.0 (20/60)", :func:`~vlm_bench.report.summary.exec_coverage`)."""
-    text = fmt(value)
+    text = fmt_diagnostic(metric, value)
     if metric in TABLE_EXEC_VALUES and text != "–" and cell in coverage:
         done, n = coverage[cell]
         text += f" ({done}/{n})"

@@ -27,7 +27,7 @@ from vlm_bench.errors import ConfigError, UnknownNameError
 from vlm_bench.report.bootstrap import Episodes, cell_estimates, multiplicities, percentile_interval
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.report_options import BOOT_SEED, CI_LEVEL, N_BOOT
-from vlm_bench.report.summary import BOTH, PERCENT, By, by_columns, system_order, system_rows
+from vlm_bench.report.summary import BOTH, By, by_columns, is_percent, system_order, system_rows
 from vlm_bench.types.base import Frozen
 
 EPISODE = ["task_id", "seed", "instruction"]
@@ -132,7 +132,7 @@ def paired_comparison(
     rows_a = system_rows(ok, keys, sys_a)[[*EPISODE, grouping.column, metric]]
     rows_b = system_rows(ok, keys, sys_b)[[*EPISODE, metric]]
     both = rows_a.merge(rows_b, on=EPISODE, suffixes=("_a", "_b"))
-    scale = 100.0 if metric in PERCENT else 1.0
+    scale = 100.0 if is_percent(metric) else 1.0
     diff = (metric_values(both, f"{metric}_a") - metric_values(both, f"{metric}_b")) * scale
     both = both.assign(d=diff.to_numpy())
     per_task = both.groupby("task_id", sort=False)["d"].mean()

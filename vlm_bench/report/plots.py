@@ -23,8 +23,8 @@ from vlm_bench.errors import MissingExtraError
 from vlm_bench.report.bootstrap import bootstrap_cis
 from vlm_bench.report.dataframe import EXEC_METRICS
 from vlm_bench.report.groups import OVERALL, Grouping
-from vlm_bench.report.summary import headline, system_order, system_rows
-from vlm_bench.report.tables import HEADERS
+from vlm_bench.report.summary import headline, partial_overalls, system_order, system_rows
+from vlm_bench.report.tables import HEADERS, header
 from vlm_bench.types.plan import HORIZONTAL_DIRECTIONS
 
 if TYPE_CHECKING:
@@ -56,8 +56,17 @@ def _name(system: tuple[object, ...]) -> str:
 
 
 def _bars(
-    ax: Any, table: pd.DataFrame, by: list[str], labels: list[str], metrics: list[str]
+    ax: Any,
+    table: pd.DataFrame,
+    by: list[str],
+    labels: list[str],
+    metrics: list[str],
+    partial: dict[tuple[object, ...], str] | None = None,
+    legend_at: float = -0.12,
 ) -> None:
+    """Grouped bars; a system in ``partial`` (its Overall misses groups: the groups it lacks)
+    gets hatched bars and a † legend entry naming them."""
+    partial = partial or {}
     systems = system_order(table, by)
     width = 0.8 / max(len(systems), 1)
     x = np.arange(len(labels))
@@ -67,7 +76,11 @@ def _bars(
         lo = np.array([mine["lo"].get(m, np.nan) for m in metrics], dtype=float)
         hi = np.array([mine["hi"].get(m, np.nan) for m in metrics], dtype=float)
         at = x + (i - (len(systems) - 1) / 2) * width
-        bars = ax.bar(at, np.nan_to_num(value), width, label=_name(system))
+        name = _name(system)
+        lacks = partial.get(system)
+        if lacks is not None:
+            name += f" † partial Overall (no {lacks})"
+        bars = ax.bar(at, np.nan_to_num(value), width, label=name, hatch="//" if lacks else None)
         for where, metric, v in zip(at, metrics, value, strict=True):
             if math.isnan(v):  # no bar: say why, so that it cannot read as 0
                 why = "not executed" if metric in EXEC_METRICS else "no value"
@@ -86,7 +99,7 @@ def _bars(
         fontsize=8,
         ncols=min(len(systems), 4),
         loc="upper center",
-        bbox_to_anchor=(0.5, -0.12),
+        bbox_to_anchor=(0.5, legend_at),
         frameon=False,
     )
 
@@ -99,13 +112,26 @@ def plot_metrics(report: Report, path: Path) -> Path:
     metrics = [m for m in HEADERS if m in set(table["metric"])]
     n_systems = len(system_order(table, by))
     fig, ax = plt.subplots(figsize=(max(6.0, 1.5 + 0.22 * len(metrics) * n_systems), 4.2))
-    _bars(ax, table, by, [HEADERS[m] for m in metrics], metrics)
+    _bars(ax, table, by, [header(m) for m in metrics], metrics, _partial(report))
     ax.set_ylabel("score / %")
     ax.set_title(f"Overall ({g.name}), {round(report.options.level * 100)} % CI over tasks")
     fig.tight_layout()
     fig.savefig(path, dpi=150)
     plt.close(fig)
     return path
+
+
+def _partial(report: Report) -> dict[tuple[object, ...], str]:
+    """Systems whose headline Overall misses groups, with the groups' short names."""
+    by, g = list(report.options.by), report.groupings[0]
+    long = report.tables[g.name]
+    shown = headline(long[long[g.column] == OVERALL], by)
+    heads = set(shown[[*by, "instruction"]].itertuples(index=False, name=None))
+    return {
+        tuple(key[:-1]): ", ".join(g.short.get(x, x) for x in groups)
+        for key, groups in partial_overalls(long, by).items()
+        if key in heads
+    }
 
 
 def plot_radar(report: Report, path: Path) -> Path:
@@ -121,7 +147,7 @@ def plot_radar(report: Report, path: Path) -> Path:
         closed = np.append(values, values[0])
         ax.plot(np.append(angles, angles[0]), closed, marker="o", label=_name(system))
         ax.fill(np.append(angles, angles[0]), np.nan_to_num(closed), alpha=0.08)
-    ax.set_xticks(angles, [HEADERS[m] for m in PLANNING])
+    ax.set_xticks(angles, [header(m) for m in PLANNING])
     ax.set_ylim(0, 100)
     ax.set_rlabel_position(45)
     ax.set_title("Planning metrics (overall)", pad=18)
@@ -146,30 +172,39 @@ def loc_by_direction(report: Report) -> pd.DataFrame:
 
 
 def sector_labels(frame: pd.DataFrame, sectors: list[str]) -> list[str]:
-    """``front\n4 ep., 2 tasks``: each sector with its distinct episodes (task, seed,
-    instruction, over all systems) and tasks (the units the intervals resample)."""
+    """``front\n4 ep.\n2 tasks``: each sector with its distinct episodes (task, seed,
+    instruction, over all systems) and tasks (the units the intervals resample), on lines of
+    their own so that neighbouring labels never overlap."""
     episodes = frame.drop_duplicates(["task_id", "seed", "instruction"])
     counts = episodes["first_move"].value_counts()
     tasks = episodes.groupby("first_move")["task_id"].nunique()
-    return [f"{s}\n{counts.get(s, 0)} ep., {tasks.get(s, 0)} tasks" for s in sectors]
+    return [f"{s}\n{counts.get(s, 0)} ep.\n{tasks.get(s, 0)} tasks" for s in sectors]
 
 
 def plot_loc_by_direction(report: Report, path: Path) -> Path:
     """Grouped bars of S_loc per first-move sector with task-clustered intervals."""
     plt = _pyplot()
-    by = list(report.options.by)
-    table = loc_by_direction(report)
-    sectors = [s for s in SECTORS if not table.empty and s in set(table["metric"])]
-    fig, ax = plt.subplots(figsize=(9, 4.2))
-    if sectors:
-        labels = sector_labels(report.frame, sectors)
-        _bars(ax, table, by, labels, sectors)
-    ax.set_ylabel("S_loc")
-    ax.set_title("S_loc by the GT's first horizontal move (UAV body frame)")
-    fig.tight_layout()
+    fig = loc_by_direction_figure(report)
     fig.savefig(path, dpi=150)
     plt.close(fig)
     return path
+
+
+def loc_by_direction_figure(report: Report) -> Any:
+    """The figure of :func:`plot_loc_by_direction` (laid out, not saved)."""
+    plt = _pyplot()
+    by = list(report.options.by)
+    table = loc_by_direction(report)
+    sectors = [s for s in SECTORS if not table.empty and s in set(table["metric"])]
+    fig, ax = plt.subplots(figsize=(10, 4.6))
+    if sectors:
+        labels = sector_labels(report.frame, sectors)
+        _bars(ax, table, by, labels, sectors, legend_at=-0.24)  # below three-line labels
+        ax.tick_params(axis="x", labelsize=8)
+    ax.set_ylabel("S_loc")
+    ax.set_title("S_loc by the GT's first horizontal move (UAV body frame)")
+    fig.tight_layout()
+    return fig
 
 
 def write_plots(report: Report, folder: Path) -> list[Path]:

@@ -21,6 +21,8 @@ ReportFormat = Literal["terminal", "markdown", "csv", "parquet", "latex"]
 FORMATS: tuple[ReportFormat, ...] = ("terminal", "markdown", "csv", "parquet", "latex")
 GroupingChoice = Literal["suites", "paper", "both"]
 GROUPING_CHOICES: tuple[GroupingChoice, ...] = ("suites", "paper", "both")
+LayoutChoice = Literal["paper", "column", "wide"]
+LAYOUT_CHOICES: tuple[LayoutChoice, ...] = ("paper", "column", "wide")
 SortChoice = Literal["given", "total"]
 SORT_CHOICES: tuple[SortChoice, ...] = ("given", "total")
 
@@ -41,8 +43,22 @@ class ReportOptions(Frozen):
     fit_width: bool = Field(
         default=False, description="LaTeX: scale each table to the text width (\\resizebox)."
     )
+    layout: LayoutChoice = Field(
+        default="paper",
+        description="LaTeX: the paper's full table (table*), a column-wide table (table) or a "
+        "page-wide one (table*), the last two at natural size for a two-column paper.",
+    )
+    columns: tuple[str, ...] = Field(
+        default=(), description="LaTeX: the metrics shown (names or headers: S_total, Tot, Succ)."
+    )
     labels: dict[str, str] = Field(
-        default_factory=dict, description="LaTeX: display name per run (or row value)."
+        default_factory=dict,
+        description="Display name per run (or row value), in every table, plot and gallery.",
+    )
+    suites: tuple[str, ...] = Field(default=(), description="Only episodes of these suites.")
+    tasks: tuple[str, ...] = Field(default=(), description="Only episodes of these tasks.")
+    common: bool = Field(
+        default=False, description="Only the episodes every run has (the same episodes per row)."
     )
     sort: SortChoice = Field(
         default="given", description="Row order: as given, or by overall Tot (the paper's)."
@@ -83,6 +99,14 @@ class ReportOptions(Frozen):
             raise ValueError("--standalone applies to --format latex only")
         if self.fit_width and self.format != "latex":
             raise ValueError("--fit-width applies to --format latex only")
+        if self.layout != "paper" and self.format != "latex":
+            raise ValueError("--layout applies to --format latex only")
+        if self.columns and self.format != "latex":
+            raise ValueError("--columns applies to --format latex only")
+        if self.fit_width and self.layout != "paper":
+            raise ValueError(
+                "--fit-width scales the paper layout; --layout column/wide fit as they are"
+            )
         if self.episodes is not None and self.episodes.suffix not in (".csv", ".parquet"):
             raise ValueError("--episodes must end in .csv or .parquet")
         return self

@@ -17,7 +17,7 @@ from vlm_bench.report.summary import (
     system_order,
     system_rows,
 )
-from vlm_bench.report.tables import HEADERS, system_headers
+from vlm_bench.report.tables import header, system_headers
 from vlm_bench.report.text import p_value, with_ci
 
 
@@ -63,11 +63,11 @@ def ci_section(
         mark = PARTIAL if (*system, first["instruction"]) in partial else ""
         for m in metrics:
             c = cells.loc[m] if m in cells.index else None
-            row[HEADERS[m]] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"]) + mark
+            row[header(m)] = "–" if c is None else with_ci(c["value"], c["lo"], c["hi"]) + mark
             if c is not None and m in EXEC_VALUES and int(c["n"]) < int(first["n"]):
-                row[HEADERS[m]] = f"{row[HEADERS[m]]} ({int(c['n'])}/{int(first['n'])})"
+                row[header(m)] = f"{row[header(m)]} ({int(c['n'])}/{int(first['n'])})"
             if c is not None:
-                narrow.append({**label, "metric": HEADERS[m], "value [CI]": row[HEADERS[m]]})
+                narrow.append({**label, "metric": header(m), "value [CI]": row[header(m)]})
         row["n"], row["tasks"] = int(first["n"]), int(first["n_tasks"])
         rows.append(row)
     frame = pd.DataFrame(rows)
@@ -139,7 +139,7 @@ def pair_section(pairs: pd.DataFrame, title: str, caption: str) -> Section:
         {
             "A": r["a"],
             "B": r["b"],
-            "metric": HEADERS.get(r["metric"], r["metric"]),
+            "metric": header(r["metric"]),
             "A − B": f"{r['diff']:.1f}",
             "95 % CI": "–" if r["lo"] != r["lo"] else f"[{r['lo']:.1f}, {r['hi']:.1f}]",
             "n": r["n"],

@@ -22,6 +22,11 @@ Aggregation, documented once here:
   ``S_arm``, ``S_safe`` and ``VLA_total`` are means over the answered episodes, an output with no
   plan to execute counting 0 in each. They aggregate like the planning metrics. Runs that do not
   execute plans have none of these columns (NaN when compared with runs that do).
+* Closed-loop runs add ``Succ@1``..``Succ@K`` (the task succeeded within k replans; Succ@0 is
+  ``exec_success``) and ``Recovered`` (the share of round-0 failures that a later round
+  recovered), in percent; open-loop runs have NaN there. ``Recovered`` has no value in a cell
+  where round 0 never failed, so its Overall and ``both`` values average the cells that have
+  one.
 * ``n_executed`` (with the execution columns) counts a cell's answered episodes that have
   execution values. Where it is below ``n`` (a ``--by`` row pooling executing and planning-only
   runs) the execution values cover only those episodes, and the tables print the count beside
@@ -37,7 +42,7 @@ from collections.abc import Sequence
 
 import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-stubs
 
-from vlm_bench.report.dataframe import EXEC_METRICS, METRICS
+from vlm_bench.report.dataframe import EXEC_METRICS, METRICS, RECOVERED, loop_columns
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 
 __all__ = ["OVERALL"]
@@ -47,6 +52,10 @@ BOTH = "both"
 VALUES = (*METRICS, "Succ", "Loc_over_blind")
 """Value columns of the summary: the paper's, then S_loc above the ``blind`` floor on the same
 episodes (:mod:`vlm_bench.report.floors`)."""
+DIAGNOSTICS = ("Move_ratio", "S_loc_prec")
+"""Diagnostic value columns, where the episode frame has them: the predicted plan's UAV moves
+over the GT plan's (mean ratio) and the precision-aware S_loc (which also charges extra moves).
+Not the paper's metrics: the paper's S_loc stays the headline; they follow ``Loc_over_blind``."""
 EXEC_VALUES = EXEC_METRICS
 """Value columns added when the records include executing runs (see the module docstring)."""
 TABLE_EXEC_VALUES = ("exec_success", "S_task")
@@ -58,7 +67,13 @@ SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error", MIS
 """Columns of :func:`summary_long` (and ``summary.csv``) without execution; with execution,
 :data:`EXEC_VALUES` follow ``Loc_over_blind``."""
 PERCENT = ("Succ", "exec_success")
-"""Boolean columns reported as percentages."""
+"""Boolean columns reported as percentages (with the closed loop's: :func:`is_percent`)."""
+
+
+def is_percent(column: str) -> bool:
+    """Whether ``column`` is a per-episode outcome the tables give in percent."""
+    return column in PERCENT or column == RECOVERED or column.startswith("Succ@")
+
 
 INSTRUCTION_ORDER = ["explicit", "implicit", BOTH]
 
@@ -86,23 +101,31 @@ def headline(rows: pd.DataFrame, by: By) -> pd.DataFrame:
 
 
 def summary_values(frame: pd.DataFrame) -> tuple[str, ...]:
-    """The value columns a summary of ``frame`` has: :data:`VALUES`, plus :data:`EXEC_VALUES`
-    when an answered episode has execution values (its run executes plans)."""
+    """The value columns a summary of ``frame`` has: :data:`VALUES` (and the
+    :data:`DIAGNOSTICS` the frame has), plus :data:`EXEC_VALUES` when an answered episode has
+    execution values (its run executes plans), plus the closed loop's Succ@k and Recovered."""
     ok = frame[frame["status"] == "ok"]
+    values = (*VALUES, *(d for d in DIAGNOSTICS if d in frame.columns))
     if "exec_success" in frame.columns and ok["exec_success"].notna().any():
-        return (*VALUES, *EXEC_VALUES)
-    return VALUES
+        loops = loop_columns(frame.columns)
+        closed = bool(loops) and ok[loops[0]].notna().any()
+        return (*values, *EXEC_VALUES, *(loops if closed else ()))
+    return values
 
 
 def table_values(long: pd.DataFrame) -> tuple[str, ...]:
-    """The value columns of the printed tables for a long summary."""
-    return (*VALUES, *TABLE_EXEC_VALUES) if "exec_success" in long.columns else VALUES
+    """The value columns of the printed tables for a long summary (with the closed loop's
+    Succ@k and Recovered where some run is closed-loop)."""
+    values = (*VALUES, *(d for d in DIAGNOSTICS if d in long.columns))
+    if "exec_success" not in long.columns:
+        return values
+    return (*values, *TABLE_EXEC_VALUES, *loop_columns(long.columns))
 
 
 def _cells(frame: pd.DataFrame, keys: list[str], values: tuple[str, ...]) -> pd.DataFrame:
     ok = frame[frame["status"] == "ok"].copy()
-    for col in PERCENT:
-        if col in values:
+    for col in values:
+        if is_percent(col):
             ok[col] = ok[col].astype(float) * 100.0
     grouped = ok.groupby(keys, sort=False, dropna=False)
     cells = grouped[list(values)].mean()
@@ -127,11 +150,17 @@ def _strict_mean(col: pd.Series) -> float:
     return float(col.mean(skipna=False))
 
 
+def _means(values: tuple[str, ...]) -> dict[str, object]:
+    """How each value's cells combine: strictly, except the recovery rate (a cell where round 0
+    never failed has none)."""
+    return {v: ("mean" if v == RECOVERED else _strict_mean) for v in values}
+
+
 def _overall(
     cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...], table: list[str]
 ) -> pd.DataFrame:
     grouped = cells.groupby([*by, "instruction"], sort=False, dropna=False)
-    out = grouped[list(values)].agg(_strict_mean)
+    out = grouped[list(values)].agg(_means(values))
     out[_counts(values)] = grouped[_counts(values)].sum()
     covered = grouped[group].agg(set)
     out[MISSING] = [",".join(g for g in table if g not in have) for have in covered]
@@ -147,7 +176,7 @@ def _both(cells: pd.DataFrame, by: list[str], group: str, values: tuple[str, ...
     grouped = cells[(variants > 1) & (present == variants)].groupby(
         [*by, group], sort=False, dropna=False
     )
-    out = grouped[list(values)].agg(_strict_mean)
+    out = grouped[list(values)].agg(_means(values))
     out[_counts(values)] = grouped[_counts(values)].sum()
     out = out.reset_index()
     out["instruction"] = BOTH

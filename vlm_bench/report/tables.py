@@ -9,10 +9,11 @@ import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # no pandas-
 from rich import box
 from rich.table import Table
 
-from vlm_bench.report.dataframe import load_records_frame
+from vlm_bench.report.dataframe import load_records_frame, loop_columns
 from vlm_bench.report.groups import OVERALL, SUITES, Grouping
 from vlm_bench.report.marks import PARTIAL, cell_text, partial_warnings, row_texts
 from vlm_bench.report.summary import (
+    DIAGNOSTICS,
     VALUES,
     By,
     by_columns,
@@ -36,8 +37,19 @@ HEADERS = {
     "Loc_over_blind": "ΔLoc",
     "exec_success": "Exec",
     "S_task": "Task",
+    "Recovered": "Rec",
+    "Move_ratio": "Mv/GT",
+    "S_loc_prec": "LocP",
 }
-"""Metric column headers as in the paper (Exec = execution success, Task = S_task)."""
+"""Metric column headers as in the paper (Exec = execution success, Task = S_task; closed
+loop: Succ@k as named, Rec = recovered share of round-0 failures)."""
+
+
+def header(metric: str) -> str:
+    """The column header of ``metric`` (:data:`HEADERS`; other columns by their name)."""
+    return HEADERS.get(metric, metric)
+
+
 LEGEND = (
     "Succ in %; ΔLoc = Loc minus the blind floor's Loc on the same episodes (what the images "
     "add); Overall = unweighted mean of the {groups} columns; `both` = mean of explicit "
@@ -47,6 +59,14 @@ EXEC_LEGEND = (
     "Exec = execution success in % and Task = S_task (sub-goals done), over answered "
     "episodes, an output with no plan counting 0; summary.csv adds S_pos, S_arm, "
     "S_safe and VLA_total."
+)
+DIAGNOSTIC_LEGEND = (
+    "Diagnostics, not the paper's metrics: Mv/GT = predicted UAV moves over the GT plan's "
+    "(mean ratio); LocP = S_loc that also charges extra moves (precision-aware)."
+)
+LOOP_LEGEND = (
+    "Closed loop: Succ@k = task success within k replans in % (Succ@0 = Exec); Rec = share of "
+    "the episodes that failed round 0 that a later round recovered, in %."
 )
 COVERAGE_LEGEND = (
     "Exec and Task with (e/n) cover only the e of the cell's n answered episodes that were "
@@ -63,7 +83,7 @@ def _metrics(wide: pd.DataFrame) -> list[str]:
 
 
 def _header_names(grouping: Grouping, groups: list[str], metrics: list[str]) -> list[str]:
-    return [f"{grouping.short[g]} {HEADERS[m]}" for g in groups for m in metrics]
+    return [f"{grouping.short[g]} {header(m)}" for g in groups for m in metrics]
 
 
 def system_headers(by: By) -> list[str]:
@@ -96,6 +116,8 @@ def summary_markdown(long: pd.DataFrame, by: By = "model", grouping: Grouping = 
     n = int(overall[overall["instruction"] != "both"]["n"].sum())
     legend = LEGEND.format(groups="suite" if grouping.name == "suites" else "paper's")
     legend = f"{legend} {EXEC_LEGEND}" if "exec_success" in metrics else legend
+    legend = f"{legend} {LOOP_LEGEND}" if loop_columns(metrics) else legend
+    legend = f"{legend} {DIAGNOSTIC_LEGEND}" if set(DIAGNOSTICS) & set(metrics) else legend
     legend = f"{legend} {COVERAGE_LEGEND}" if exec_coverage(long, by, grouping) else legend
     names = group_legend(grouping, groups)
     warnings = "".join(f"\n**Warning.** {w}\n" for w in partial_warnings(long, by, grouping))
@@ -106,6 +128,10 @@ def _caption(metrics: Sequence[str], covered: bool = False) -> str:
     caption = "Succ in %; Overall = mean of the column groups"
     if "exec_success" in metrics:
         caption += "; Exec = execution success in %, Task = S_task"
+    if loop_columns(metrics):
+        caption += "; Succ@k = success within k replans, Rec = recovered failures (%)"
+    if set(DIAGNOSTICS) & set(metrics):
+        caption += "; diagnostics: Mv/GT = predicted/GT UAV moves, LocP = precision-aware Loc"
     if covered:
         caption += "; (e/n) = executed e of n episodes"
     return caption
@@ -130,7 +156,7 @@ def _rich_wide(
     table.add_column("Instr.")
     for group in groups:
         for metric in metrics:
-            label = f"{grouping.short[group]}\n{HEADERS[metric]}"
+            label = f"{grouping.short[group]}\n{header(metric)}"
             table.add_column(
                 f"[bold]{label}[/]" if metric == "S_total" else label, justify="right", no_wrap=True
             )
@@ -164,7 +190,7 @@ def _rich_long(
     for metric in metrics:
         bold = metric == "S_total"
         table.add_column(
-            f"[bold]{HEADERS[metric]}[/]" if bold else HEADERS[metric],
+            f"[bold]{header(metric)}[/]" if bold else header(metric),
             justify="right",
             no_wrap=True,
         )

@@ -7,9 +7,13 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import sys
+import threading
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
+from multiprocessing import spawn
+from multiprocessing.context import BaseContext, SpawnProcess
 from typing import Any, Protocol, TypeVar
 
 from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
@@ -54,6 +58,57 @@ def _init_worker(parent: int) -> None:
     os.environ.setdefault("MUJOCO_GL", "egl")
 
 
+_MAIN_KEYS = ("init_main_from_path", "init_main_from_name")
+"""What a spawned child uses to re-run the parent's ``__main__`` (``multiprocessing.spawn``)."""
+_LAUNCHING = threading.Lock()
+_stdlib_preparation = spawn.get_preparation_data
+
+
+def _preparation_without_main(name: str) -> dict[str, Any]:
+    data = _stdlib_preparation(name)
+    for key in _MAIN_KEYS:
+        data.pop(key, None)
+    return data
+
+
+def _package_popen(process_obj: Any) -> Any:
+    """Start a spawned worker that does not run the parent's ``__main__``.
+
+    A spawned child normally re-runs the parent's main script (as ``__mp_main__``) so that
+    functions defined there unpickle; our workers only run vlm-bench's own functions, and
+    re-running a user's script without an ``if __name__ == "__main__":`` guard would start
+    the run again inside every worker. The main-module entries are left out of the data the
+    child is prepared from, for this launch only (under a lock).
+    """
+    from multiprocessing import popen_spawn_posix
+
+    with _LAUNCHING:
+        spawn.get_preparation_data = _preparation_without_main
+        try:
+            return popen_spawn_posix.Popen(process_obj)
+        finally:
+            spawn.get_preparation_data = _stdlib_preparation
+
+
+class _PackageWorker(SpawnProcess):
+    _Popen = staticmethod(_package_popen)
+
+
+class _PackageSpawnContext(BaseContext):
+    """``spawn`` whose workers never import the caller's ``__main__``."""
+
+    _name = "spawn"
+    Process = _PackageWorker
+
+
+def worker_context() -> BaseContext:
+    """The start method of execution workers: ``spawn`` without re-running ``__main__``
+    (plain ``spawn`` where processes are not POSIX-spawned, e.g. Windows)."""
+    if sys.platform == "win32":
+        return multiprocessing.get_context("spawn")
+    return _PackageSpawnContext()
+
+
 class InlinePool:
     """Executes in the calling process, at submit (``--exec-workers 0``)."""
 
@@ -82,8 +137,9 @@ class InlinePool:
 
 class ProcessPool:
     """Executes in ``workers`` worker processes of this machine (started with ``spawn``: the
-    parent may hold a GPU context or an EGL renderer that a fork must not inherit). The
-    workers exit when this process does (:func:`~.worker_lifetime.die_with_parent`)."""
+    parent may hold a GPU context or an EGL renderer that a fork must not inherit; without
+    re-running the caller's ``__main__``: :func:`worker_context`). The workers exit when this
+    process does (:func:`~.worker_lifetime.die_with_parent`)."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
@@ -92,7 +148,7 @@ class ProcessPool:
     def _start(self) -> ProcessPoolExecutor:
         return ProcessPoolExecutor(
             max_workers=self.workers,
-            mp_context=multiprocessing.get_context("spawn"),
+            mp_context=worker_context(),
             initializer=_init_worker,
             initargs=(os.getpid(),),
         )

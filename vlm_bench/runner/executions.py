@@ -48,7 +48,7 @@ def make_pool(options: ExecutionOptions) -> ExecutionPool:
     if options.backend == "ray":
         from vlm_bench.runner.executions_ray import RayPool
 
-        pool: ExecutionPool = RayPool(max(1, workers), options.ray_address)
+        pool: ExecutionPool = RayPool(max(1, workers), options.ray_address, options.stall_s)
         return pool
     if workers <= 0:
         return InlinePool()

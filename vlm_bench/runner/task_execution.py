@@ -13,8 +13,10 @@ from pathlib import Path
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.parsing import parse_plan
+from vlm_bench.parsing.schema import MAX_PLAN_STEPS
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult, ExecutorConfig
+from vlm_bench.types.parse import ParseCode
 from vlm_bench.types.plan import ArmStep, PlanSteps, UavStep
 from vlm_bench.types.task import InstructionVariant
 
@@ -66,6 +68,10 @@ def plan_from_text(text: str, episode: Episode, source: str) -> list[UavStep | A
         ConfigError: No plan in the text, or an invalid step (names the step and its codes).
     """
     parsed = parse_plan(text, episode.object_ids())
+    if ParseCode.TOO_LONG in parsed.errors:
+        raise ConfigError(
+            f"{source}: the plan has more than {MAX_PLAN_STEPS} steps, the most a plan may have"
+        )
     if not parsed.usable:
         codes = ", ".join(str(c) for c in parsed.errors) or "no plan"
         raise ConfigError(f"{source}: no plan in the paper's JSON format found ({codes})")

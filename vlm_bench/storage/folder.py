@@ -154,9 +154,30 @@ def check_compatible(
         ConfigMismatchError: One line naming every differing field.
     """
     fields = config_differences(stored.config, config, new.operational_args)
-    for name in ("prompts", "skills", "ground_truth"):
-        if getattr(stored.data, name) != getattr(new.data, name):
-            fields.append(f"{name}/ files")
+    if stored.config.benchmark_version != config.benchmark_version:
+        raise ConfigMismatchError(
+            f"{paths.root} holds a run of benchmark version {stored.config.benchmark_version}; "
+            f"this release evaluates version {config.benchmark_version}, so it cannot resume "
+            "that run: start a new one with another --out/--run-name (or resume it with the "
+            "release that made it)"
+        )
+    data = [
+        n
+        for n in ("prompts", "skills", "ground_truth")
+        if getattr(stored.data, n) != getattr(new.data, n)
+    ]
+    if data and not fields:
+        rescore = (
+            f", or score its saved answers against these files: vlm-bench rescore {paths.root}"
+            if stored.config.loop == "open"
+            else ""
+        )
+        raise ConfigMismatchError(
+            f"{paths.root} holds a run made with other {'/, '.join(data)}/ files than this "
+            "installation's, so re-running cannot resume it: start a new run with another "
+            f"--out/--run-name{rescore}"
+        )
+    fields += [f"{name}/ files" for name in data]
     if fields:
         raise ConfigMismatchError(
             f"{paths.root} holds a run with a different configuration "

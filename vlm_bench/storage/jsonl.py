@@ -123,12 +123,14 @@ class JsonlWriter(ClosesOnExit):
 
 
 @contextmanager
-def naming_the_file(path: Path) -> Iterator[None]:
-    """Re-raise an ``OSError`` without a file name (a full disk on ``write``) naming ``path``."""
+def naming_the_file(path: Path, tmp: Path | None = None) -> Iterator[None]:
+    """Re-raise an ``OSError`` without a file name (a full disk on ``write``), or naming the
+    temporary file ``tmp`` written on the way to ``path``, naming ``path``: the file the user
+    asked for."""
     try:
         yield
     except OSError as exc:
-        if exc.filename is not None:
+        if exc.filename is not None and (tmp is None or exc.filename != str(tmp)):
             raise
         raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
 
@@ -136,17 +138,18 @@ def naming_the_file(path: Path) -> Iterator[None]:
 def write_jsonl_atomic(path: Path, lines: list[str]) -> None:
     """Replace ``path`` with ``lines`` (serialised JSON objects) via a fsynced temporary file."""
     tmp = path.with_name(f".{path.name}.tmp")
-    with naming_the_file(path), tmp.open("wb") as fh:
-        for line in lines:
-            fh.write(line.encode("utf-8") + b"\n")
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    with naming_the_file(path, tmp):
+        with tmp.open("wb") as fh:
+            for line in lines:
+                fh.write(line.encode("utf-8") + b"\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
 
 
 def write_text_atomic(path: Path, text: str) -> None:
     """Replace ``path`` with ``text`` via a temporary file (readers never see half a file)."""
     tmp = path.with_name(f".{path.name}.tmp")
-    with naming_the_file(path):
+    with naming_the_file(path, tmp):
         tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+        os.replace(tmp, path)

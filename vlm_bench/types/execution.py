@@ -319,10 +319,11 @@ class ExecutionOptions(Frozen):
         default=None, description="Ray cluster address (ray backend); None = a local cluster."
     )
     stall_s: float = Field(
-        default=900.0,
+        default=600.0,
         gt=0,
         description="With executions in flight and none finishing for this long (s), those in "
-        "flight are given up as lost (a resume runs them again). Five times the longest execution "
-        "a plan can make (860 s simulated at a real-time factor of 5): only a hung worker or a "
-        "lost node reaches it.",
+        "flight are given up as lost (a resume runs them again). 3.5 times the longest execution "
+        "a plan can make (860 s simulated: 172 s at a real-time factor of 5), so a machine 3.5 "
+        "times slower still finishes it; only a hung worker or a lost node reaches it (a lost "
+        "Ray node is announced within a minute).",
     )
