@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import re
 import threading
 from collections.abc import Iterator, Mapping, Sequence
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -36,13 +37,18 @@ def episode_of(user_texts: Sequence[str], keys: Mapping[str, str]) -> str:
     return keys["\n".join(user_texts)]
 
 
+NOTE = re.compile(r"^\[\w+ view of that moment, not shown again\]$")
+"""What a replan's history shows in place of an earlier round's image."""
+
+
 def first_user_text(messages: Sequence[ChatMessage]) -> list[str]:
-    """The text parts of the first user message (inspect messages)."""
+    """The text parts of the first user message (inspect messages), images' notes left out:
+    the same for round 0 and for the history a replan carries."""
     user = next(m for m in messages if m.role == "user")
     content = user.content
     if isinstance(content, str):
         return [content]
-    return [c.text for c in content if c.type == "text"]
+    return [c.text for c in content if c.type == "text" and not NOTE.match(c.text)]
 
 
 def scripted_mockllm(script: Script, keys: Mapping[str, str]) -> Any:

@@ -81,3 +81,26 @@ def test_closed_loop_equals_a_closed_loop_run_of_the_same_answers(tmp_path: Path
     results = json.loads((tmp_path / "run" / "results.json").read_text())
     pooled = {s["k"]: s["estimate"]["value"] for s in results["succ_at_k"]}
     assert pooled == {0: 50.0, 1: 100.0, 2: 100.0}
+
+
+@pytest.mark.slow
+def test_closed_loop_through_an_openai_compatible_server(tmp_path: Path) -> None:
+    from tests.inspect_eval.conftest import FakeOpenAI
+
+    task = aerial(**{**OPTIONS, "task": TASKS[0]})  # type: ignore[arg-type]
+    samples = [(str(s.id), str(s.target)) for s in task.dataset]
+    keys = {"\n".join(first_user_text(s.input)): str(s.id) for s in task.dataset}  # type: ignore[arg-type]
+    with FakeOpenAI(_script(samples), keys) as server:
+        model = get_model("openai-api/fake/served-model", base_url=server.url, api_key="k")
+        [log] = inspect_eval(task, model=model, log_dir=str(tmp_path), display="none")
+        received = list(server.received)
+    assert log.status == "success", log.error
+    assert log.samples is not None
+    loop = (next(iter((log.samples[0].scores or {}).values())).metadata or {})["loop"]
+    assert loop["succ_at"] == [False, True, True] and loop["rounds_used"] == 2
+    # The replan: system, round 0 (its views as notes), the answer, the new views + feedback.
+    replan = received[1]["messages"]
+    assert [m["role"] for m in replan] == ["system", "user", "assistant", "user"]
+    last = replan[-1]["content"]
+    assert sum(1 for p in last if p["type"] == "image_url") == 4
+    assert any("out_of_reach" in p.get("text", "") for p in last if p["type"] == "text")

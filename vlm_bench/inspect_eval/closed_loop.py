@@ -12,6 +12,7 @@ as a run's record stores it) go to the sample's metadata for the scorer.
 
 from __future__ import annotations
 
+import base64
 import os
 from pathlib import Path
 from typing import Any
@@ -31,7 +32,6 @@ from inspect_ai.solver import Generate, Solver, TaskState, solver
 from vlm_bench.episodes import get_episode
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.inspect_eval.options import TaskOptions, loop_run_config
-from vlm_bench.inspect_eval.samples import png_file
 from vlm_bench.inspect_eval.scoring import LOOP_OUTCOME, ROUND_ZERO
 from vlm_bench.rounds import (
     Conversation,
@@ -51,26 +51,28 @@ SIMULATIONS = anyio.CapacityLimiter(max(1, os.cpu_count() or 1))
 """Episodes simulated at once (each drive holds a worker thread and a MuJoCo scene)."""
 
 
-def _content(parts: tuple[ContentPart, ...], images: Path) -> list[Content]:
+def _content(parts: tuple[ContentPart, ...]) -> list[Content]:
+    # A solver's messages carry their images inline (inspect materialises file references
+    # in sample inputs only).
     return [
-        ContentImage(image=str(png_file(p.png, images)))
+        ContentImage(image="data:image/png;base64," + base64.b64encode(p.png).decode())
         if isinstance(p, ImagePart)
         else ContentText(text=p.text)
         for p in parts
     ]
 
 
-def request_messages(request: GenerationRequest, images: Path) -> list[ChatMessage]:
+def request_messages(request: GenerationRequest) -> list[ChatMessage]:
     """A backend request as inspect messages: system, the earlier rounds, the new user turn."""
     messages: list[ChatMessage] = [ChatMessageSystem(content=request.system)]
     for turn in request.history:
-        content = _content(turn.content, images)
+        content = _content(turn.content)
         if turn.role == "assistant":
             text = "".join(c.text for c in content if isinstance(c, ContentText))
             messages.append(ChatMessageAssistant(content=text))
         else:
             messages.append(ChatMessageUser(content=content))
-    messages.append(ChatMessageUser(content=_content(request.user, images)))
+    messages.append(ChatMessageUser(content=_content(request.user)))
     return messages
 
 
@@ -129,7 +131,6 @@ def closed_loop_solver(options: TaskOptions) -> Solver:
 
     config = loop_run_config(options)
     cache = default_snapshot_cache(results_dir() / "inspect")
-    images = cache / "inspect_png"
 
     @solver
     def vlm_bench_closed_loop() -> Solver:
@@ -145,7 +146,7 @@ def closed_loop_solver(options: TaskOptions) -> Solver:
             async def replan(ask: ReplanRequest) -> str:
                 nonlocal state
                 request, key = loop.replan_request(ask)
-                state.messages = request_messages(request, images)
+                state.messages = request_messages(request)
                 state = await generate(state)
                 answer = state.output.completion
                 loop.conversation.add(request, answer, key)
