@@ -46,7 +46,7 @@ def test_a_test_seed_is_refused_unless_allowed_and_then_the_card_says_so(
     done = cli.run("export", "sft", str(out), "--seeds", "9-10", *SMALL)
     assert done.returncode == 2
     (line,) = done.stderr.strip().splitlines()
-    assert "seeds 9 are test seeds" in line and "--allow-test-seeds" in line
+    assert "test seeds asked for (9)" in line and "--allow-test-seeds" in line
     assert not out.exists()
     cli.invoke(
         "export",

@@ -127,3 +127,26 @@ def test_prompt_completion_form_trains_on_the_answer_only(export: Path, tmp_path
     assert 0 < answer_tokens < 3 * len(target)  # the answers, not the long prompts
     trainer.train()
     assert math.isfinite(trainer.state.log_history[-1]["train_loss"])
+
+
+@pytest.mark.slow
+def test_the_recipes_trl_sft_command_reads_the_export(export: Path, tmp_path: Path) -> None:
+    """docs/training.md's ``trl sft`` command (its data options; a tiny model, 2 steps on CPU)
+    loads the export folder as is and saves a checkpoint ``vlm-bench run`` plans with."""
+    import subprocess
+
+    tiny = _tiny_vlms()
+    rows = _load(export, tmp_path / "cache")
+    start = tiny._llava(_texts(rows) * 2).save(tmp_path / "tiny")
+    checkpoint = tmp_path / "checkpoint"
+    command = [sys.executable, "-c", "import sys; from trl.cli import main; sys.exit(main())"]
+    command += ["sft", "--model_name_or_path", str(start), "--dataset_name", str(export)]
+    command += ["--output_dir", str(checkpoint), "--max_length", "16384", "--max_steps", "2"]
+    command += ["--per_device_train_batch_size", "1", "--gradient_accumulation_steps", "2"]
+    command += ["--learning_rate", "1e-3", "--use_cpu", "--report_to", "none"]
+    command += ["--save_strategy", "no", "--dataloader_num_workers", "0"]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    assert done.returncode == 0, done.stderr[-3000:]
+    out = tmp_path / "run"
+    tiny.cli_run(out, checkpoint, 2, "--resolution", "32", "--seeds", "0")
+    assert len((out / "records.jsonl").read_text().splitlines()) == 2

@@ -50,8 +50,8 @@ def check_seeds(config: RunConfig, allow_test_seeds: bool) -> None:
     if found and not allow_test_seeds:
         shown = ", ".join(map(str, found[:5])) + (", ..." if len(found) > 5 else "")
         raise ConfigError(
-            f"seeds {shown} are test seeds (0-9, the benchmark's GT): training on them leaks the "
-            "test set; use train seeds (10 and up) or --allow-test-seeds"
+            f"test seeds asked for ({shown}): seeds 0-9 are the benchmark's GT and training on "
+            "them leaks the test set; use train seeds (10 and up) or --allow-test-seeds"
         )
 
 
