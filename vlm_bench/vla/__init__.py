@@ -9,6 +9,8 @@ Sits above :mod:`vlm_bench.executor` (it executes plans through :func:`execute_p
   policy drives inside a plan execution.
 * ``closed_loop``: :func:`run_closed_loop`, a planner replanning after failed rounds in one
   simulation, the ARM steps driven by a policy (or the scripted skills).
+* ``demos``: VLA demonstrations, the scripted executor's executions recorded as a LeRobot
+  dataset (``vlm-bench export demos``, docs/demos.md).
 * ``gym_env``: :class:`~vlm_bench.vla.gym_env.AerialManipulationEnv`, a gymnasium environment
   (imported on its own: it needs the ``gym`` extra).
 
