@@ -10,6 +10,7 @@ import subprocess
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 import pytest
@@ -20,6 +21,9 @@ from vlm_bench.types.plan import HORIZONTAL_DIRECTIONS
 from vlm_bench.types.records import EpisodeRecord
 
 TASKS = ("standard_pick_place", "target_color_yellow", "synonym_block_bin", "tower_stacking")
+if TYPE_CHECKING:
+    from tests.conftest import Cli
+
 LOCAL = "openai//srv/models/tiny-llava"
 
 
@@ -166,3 +170,12 @@ def test_piped_listings_never_cut_an_id(command: str) -> None:
     assert done.returncode == 0, done.stderr
     want = "glm-4.1v-9b-thinking" if command == "models" else "deformable_object_banana"
     assert want in done.stdout
+
+
+def test_the_cli_passes_the_new_options(runs: list[str], cli: Cli) -> None:
+    args = ["report", *runs, "-f", "latex", "--layout", "column", "--columns", "Tot,Succ"]
+    text = cli.invoke(*args, "--suite", "bm", "--common", "--label", "oracle-1a2b=Oracle")
+    assert r"\begin{tabularx}{\columnwidth}" in text and "Oracle &" in text
+    assert "tiny-llava &" in text and "OS" not in text.split(r"\midrule")[0]
+    bad = cli.result("report", *runs, "--layout", "column")  # a LaTeX option without LaTeX
+    assert bad.exit_code != 0

@@ -10,7 +10,8 @@ recorded at the control rate and written as a LeRobotDataset v3.0 (docs/demos.md
   gym environment.
 """
 
-from vlm_bench.vla.demos.export import DemoExportConfig, DemoExportSummary, export_demos
+from vlm_bench.vla.demos.config import DemoExportConfig, DemoExportSummary
+from vlm_bench.vla.demos.export import export_demos
 from vlm_bench.vla.demos.variation import DemoVariation
 
 __all__ = ["DemoExportConfig", "DemoExportSummary", "DemoVariation", "export_demos"]

@@ -14,40 +14,31 @@ failures are counted, not written.
 from __future__ import annotations
 
 import shutil
-from collections import Counter
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from pydantic import Field
 
 from vlm_bench.catalog.gt_episodes import MATERIALISED_SEEDS
 from vlm_bench.catalog.tasks import get_task, tasks_in
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
-from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_WRIST, CONTROL_DT
 from vlm_bench.sim.render import SnapshotRenderer
-from vlm_bench.types.base import Frozen
 from vlm_bench.types.plan import ArmStep
-from vlm_bench.types.task import InstructionVariant, Suite
+from vlm_bench.vla.demos.card import demos_card
+from vlm_bench.vla.demos.config import (
+    FPS,
+    SOURCE_SEED,
+    SOURCE_STEP,
+    SOURCE_TASK,
+    DemoExportConfig,
+    DemoExportSummary,
+)
 from vlm_bench.vla.demos.lerobot_writer import EpisodeData, LeRobotWriter, require_writer_packages
 from vlm_bench.vla.demos.record import Demonstration, record_demo
-from vlm_bench.vla.demos.variation import DemoVariation, draw_variation
+from vlm_bench.vla.demos.variation import draw_variation
 from vlm_bench.vla.observation import ObservationConfig
-
-FPS = round(1 / CONTROL_DT)
-"""Frames per second of a demonstration: the control rate (20 Hz)."""
-DEFAULT_VIEWS = (CAM_WRIST, CAM_OVERHEAD)
-DEFAULT_SIZE = 96
-
-
-SOURCE_TASK = "vlm_bench/task_id"
-SOURCE_SEED = "vlm_bench/seed"
-SOURCE_STEP = "vlm_bench/plan_step"
-"""Episodes-table columns naming where a LeRobot episode came from: the benchmark task, the
-episode seed and the GT plan step (-1: the whole execution)."""
 
 
 def demo_source(demo: Demonstration) -> dict[str, Any]:
@@ -60,35 +51,6 @@ def demo_source(demo: Demonstration) -> dict[str, Any]:
         "vlm_bench/accel": draw.accel,
         "vlm_bench/stow_s": draw.stow_s,
     }
-
-
-class DemoExportConfig(Frozen):
-    """What an export records."""
-
-    tasks: tuple[str, ...] = Field(default=(), description="Task ids; () = every task (of suite).")
-    suite: Suite | None = Field(default=None, description="Only this suite's tasks.")
-    seeds: tuple[int, ...] = Field(description="Episode seeds (train seeds are 10 and up).")
-    variant: InstructionVariant = Field(default="explicit", description="Instruction as task.")
-    views: tuple[str, ...] = Field(default=DEFAULT_VIEWS, description="Cameras recorded.")
-    size: int = Field(default=DEFAULT_SIZE, ge=16, le=512, description="Image side (px, even).")
-    per_arm_step: bool = Field(
-        default=False, description="One LeRobot episode per ARM step (task: the step's command)."
-    )
-    variation: DemoVariation = Field(default_factory=DemoVariation, description="Variation.")
-    allow_test_seeds: bool = Field(default=False, description="Accept seeds 0-9 (test set).")
-
-
-@dataclass
-class DemoExportSummary:
-    """What an export wrote and what it left out."""
-
-    folder: Path
-    executions: int = 0
-    kept: int = 0
-    episodes: int = 0
-    frames: int = 0
-    failures: Counter[str] = field(default_factory=Counter)
-    """Left-out executions by failure code (``action_out_of_bounds`` for a replay risk)."""
 
 
 def selected_task_ids(config: DemoExportConfig) -> list[str]:
@@ -192,6 +154,7 @@ def export_demos(
     finally:
         renderer.close()
         writer.close()
+    (out / "README.md").write_text(demos_card(config, summary, task_ids))
     return summary
 
 

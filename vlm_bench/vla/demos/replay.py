@@ -13,7 +13,7 @@ import numpy as np
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.vla.demos.export import SOURCE_SEED, SOURCE_STEP, SOURCE_TASK
+from vlm_bench.vla.demos.config import SOURCE_SEED, SOURCE_STEP, SOURCE_TASK
 from vlm_bench.vla.demos.reader import DemoDataset
 
 
