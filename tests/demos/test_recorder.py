@@ -12,8 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vlm_bench.episodes import get_episode
-from vlm_bench.executor.plan_execution import episode_scene
 from vlm_bench.executor.sim_loop import SimLoop
+from vlm_bench.executor.step_execution import episode_scene
 from vlm_bench.sim.constants import GRIPPER_OPEN
 from vlm_bench.sim.robot import set_arm_targets
 from vlm_bench.types.execution import ExecutorConfig

@@ -76,4 +76,3 @@ def export_demos(
 def add_to(group: typer.Typer) -> None:
     """Add ``demos`` to the ``export`` command group."""
     group.command("demos")(export_demos)
-

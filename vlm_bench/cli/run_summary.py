@@ -16,8 +16,8 @@ console = Console()
 
 def print_run_summary(result: RunResult) -> None:
     """Print a run's table, where its files are, and what has no result."""
-    from vlm_bench.report import summary_rich
     from vlm_bench.cli.protocol_option import protocol_line
+    from vlm_bench.report import summary_rich
     from vlm_bench.types.execution import FailureCode
     from vlm_bench.types.protocol_match import manifest_protocol
 

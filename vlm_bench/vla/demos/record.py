@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlm_bench.executor.live_episode import LiveEpisode
-from vlm_bench.executor.plan_execution import SkillFactory
 from vlm_bench.executor.sim_loop import SimLoop, Skill
+from vlm_bench.executor.step_execution import SkillFactory
 from vlm_bench.sim.render import SnapshotRenderer
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionResult, SkillFailure

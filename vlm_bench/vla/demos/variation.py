@@ -18,13 +18,13 @@ import numpy as np
 from pydantic import Field
 
 from vlm_bench.executor.motion.base_move import BaseMove
-from vlm_bench.executor.plan_execution import SkillFactory
 from vlm_bench.executor.sim_loop import SimLoop, Skill
 from vlm_bench.executor.skills.articulation import articulation_skills
 from vlm_bench.executor.skills.grasp_points import GraspPoint
 from vlm_bench.executor.skills.grasping import grasp_skills
 from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.pushing import push_skills
+from vlm_bench.executor.step_execution import SkillFactory
 from vlm_bench.types.base import Frozen
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutorConfig, FlightConfig, SkillFailure
