@@ -155,7 +155,7 @@ class PlanExecution:
         if self.perturber is None:
             execute_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
             return
-        self.perturber.flight_started(loop, index)
+        self.perturber.flight_started(loop, index, plan)
         try:
             execute_move(loop, self.refs, step, next_arm_step(plan, index), carrier)
         finally:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from vlm_bench.parsing import parse_plan
-from vlm_bench.rounds.machine import Done, Execute, RoundMachine, Step
+from vlm_bench.rounds.machine import Action, Done, Execute, RoundMachine, Step
 from vlm_bench.rounds.state import ReplanRequest, StateView, describe_state, round_outcome
 from vlm_bench.types.execution import ExecutionResult
 from vlm_bench.types.rounds import LoopOutcome
@@ -68,7 +68,7 @@ def drive_episode(
     """
     out = DrivenEpisode()
     object_ids = live.episode.object_ids()
-    action = machine.start(answer_steps(first, object_ids))
+    action: Action = machine.start(answer_steps(first, object_ids))
     while not isinstance(action, Done):
         if isinstance(action, Execute):
             result = live.execute(list(action.steps))

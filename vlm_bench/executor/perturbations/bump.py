@@ -3,7 +3,9 @@
 Before an ARM step, with probability P its object (a free, movable object that is not held) is
 displaced 0.2-0.4 m in a drawn horizontal direction, staying on what it rests on and clear of
 other objects; objects resting on it move with it. Where no direction keeps it so (tried every
-45 degrees from the drawn one), nothing is displaced.
+45 degrees from the drawn one), nothing is displaced. Each ARM step draws once, keyed by what
+happens: the episode, the step's object, skill and target, and how many such steps came before
+it, so two plans that do the same ARM steps meet the same bumps there, whatever else they do.
 """
 
 from __future__ import annotations
@@ -29,11 +31,14 @@ class Bump(PerturbationKind):
 
     def __init__(self, rate: float, episode: Episode, emit: Callable[[PerturbEvent], None]):
         super().__init__(rate, episode, emit)
-        self._rng = event_rng(episode, self.name)
+        self._seen: dict[tuple[str, str, str], int] = {}
 
     def before_arm_step(self, loop: SimLoop, index: int, step: ArmStep) -> None:
         """Draw whether ``step``'s object is displaced, and displace it."""
-        rng = self._rng
+        key = (step.object, step.skill, step.target or "")
+        n = self._seen.get(key, 0)
+        self._seen[key] = n + 1
+        rng = event_rng(self.episode, self.name, *key, n)
         draws = rng.random(), rng.uniform(*BUMP_RANGE), rng.uniform(0, 360)
         if draws[0] >= self.rate or not self._bumpable(loop, step.object):
             return

@@ -19,7 +19,7 @@ import numpy as np
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.types.closed_loop import PerturbEvent
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.plan import ArmStep
+from vlm_bench.types.plan import ArmStep, PlanSteps
 
 
 def event_rng(episode: Episode, kind: str, *key: object) -> np.random.Generator:
@@ -56,8 +56,8 @@ class PerturbationKind:
     def after_arm_step(self, loop: SimLoop, index: int, step: ArmStep, ok: bool) -> None:
         """An ARM step ran (``ok``: it succeeded)."""
 
-    def flight_started(self, loop: SimLoop, index: int) -> None:
-        """A UAV move (plan index ``index``) starts."""
+    def flight_started(self, loop: SimLoop, index: int, plan: PlanSteps) -> None:
+        """A UAV move (``plan[index]``) starts."""
 
     def flight_ended(self, loop: SimLoop) -> None:
         """The UAV move ended."""

@@ -8,7 +8,7 @@ from vlm_bench.executor.perturbations.registered import PERTURBATIONS
 from vlm_bench.executor.sim_loop import SimLoop
 from vlm_bench.types.closed_loop import PerturbConfig, PerturbEvent
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.plan import ArmStep
+from vlm_bench.types.plan import ArmStep, PlanSteps
 
 
 class Perturber:
@@ -34,10 +34,10 @@ class Perturber:
         for kind in self.kinds:
             kind.after_arm_step(loop, index, step, ok)
 
-    def flight_started(self, loop: SimLoop, index: int) -> None:
-        """A UAV move starts."""
+    def flight_started(self, loop: SimLoop, index: int, plan: PlanSteps) -> None:
+        """A UAV move (``plan[index]``) starts."""
         for kind in self.kinds:
-            kind.flight_started(loop, index)
+            kind.flight_started(loop, index, plan)
 
     def flight_ended(self, loop: SimLoop) -> None:
         """The UAV move ended."""
