@@ -13,7 +13,8 @@ the shorter side of its pixel bounding box. Episodes are judged by
 docstring). It also counts, with :mod:`vlm_bench.sim.view_checks`, the supports under task
 objects that show their top and full height in a view, and the label tags that cover a task
 object's pixels. Episodes are the materialised GT's. Prints the minima per view, the smallest
-objects by kind, the worst ten episodes and the wall time; ``--out`` writes one JSON line per episode as it finishes.
+objects by kind, the worst ten episodes and the wall time; ``--out`` writes one JSON line per
+episode as it finishes.
 """
 
 from __future__ import annotations
