@@ -12,8 +12,9 @@ the shorter side of its pixel bounding box. Episodes are judged by
 :func:`vlm_bench.sim.footprint.legibility_failures` (the criterion is in that module's
 docstring). It also counts, with :mod:`vlm_bench.sim.view_checks`, the supports under task
 objects that show their top and full height in a view, and the label tags that cover a task
-object's pixels. Episodes are the materialised GT's. Prints the minima per view, the smallest objects by kind, the worst ten episodes and
-the wall time; ``--out`` writes one JSON line per episode as it finishes.
+object's pixels. Episodes are the materialised GT's. Prints the minima per view, the smallest
+objects by kind, the worst ten episodes and the wall time; ``--out`` writes one JSON line per
+episode as it finishes.
 """
 
 from __future__ import annotations
@@ -123,7 +124,8 @@ def summarise(rows: list[dict[str, Any]], wall: float, workers: int) -> None:
     blind_eps = [r for r in rows if not all(any(v.values()) for v in r["supports"].values())]
     print(
         f"height supports showing top and full height in a view: {sum(supports)} of "
-        f"{len(supports)}; episodes with every one shown: {len(rows) - len(blind_eps)} of {len(rows)}"
+        f"{len(supports)}; episodes with every one shown: {len(rows) - len(blind_eps)} of "
+        f"{len(rows)}"
     )
     covered = [r for r in rows if r["label_overlaps"]]
     print(f"episodes where a label covers a task object: {len(covered)} of {len(rows)}")
