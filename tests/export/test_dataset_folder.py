@@ -176,3 +176,20 @@ def _env() -> dict[str, str]:
     import os
 
     return dict(os.environ)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--no-images"], "No such option: --no-images"),
+        (["--shard-rows", "0"], "--shard-rows must be at least 1, got 0"),
+    ],
+)
+def test_unknown_options_and_bad_shards_are_one_line(
+    cli: Cli, tmp_path: Path, args: list[str], message: str
+) -> None:
+    done = cli.run("export", "dataset", str(tmp_path / "ds"), *args, "--no-progress")
+    assert done.returncode == 2
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], lines
+    assert list(tmp_path.iterdir()) == []

@@ -76,8 +76,8 @@ def export_dataset(
         MissingExtraError: ``datasets`` or ``pyarrow`` missing (the ``dataset`` extra).
         ConfigError / UnknownNameError: A bad target or option, before anything is written.
     """
-    from vlm_bench import __version__
     from vlm_bench.runner.progress import progress_bar
+    from vlm_bench.storage.provenance import package_versions
 
     require_dataset_extra()
     if shard_rows < 1:
@@ -103,7 +103,8 @@ def export_dataset(
                 records(), staging / DATA_FOLDER, features, names, shard_rows, advance
             )
         example = first[0] if first else None
-        card = card_text(options, features, writer.rows, writer.arrow_bytes, __version__, example)
+        version = package_versions(("vlm-bench",)).get("vlm-bench", "unknown")
+        card = card_text(options, features, writer.rows, writer.arrow_bytes, version, example)
         (staging / "README.md").write_text(card, encoding="utf-8")
         _install(staging, out)
     except BaseException:

@@ -11,17 +11,15 @@ import json
 import math
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import datasets
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-Row = TypeVar("Row")
-
 DEFAULT_SHARD_ROWS = 100
-"""Rows per Parquet file (about 50 MB at four 448-px views)."""
+"""Rows per Parquet file (about 33 MB at four 448-px views)."""
 
 ROW_GROUP_ROWS = 10
 """Rows per Parquet row group: the rows held in memory at once (readers decode a group at a

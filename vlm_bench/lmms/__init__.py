@@ -7,9 +7,6 @@ lmms-eval finds the tasks with ``--include_path`` set to :data:`TASKS_DIR`, or a
 docs/dataset.md gives the commands.
 """
 
-from pathlib import Path
-
-TASKS_DIR = Path(__file__).resolve().parent / "tasks"
-"""The folder to give lmms-eval's ``--include_path``."""
+from vlm_bench.lmms.task_folder import TASKS_DIR
 
 __all__ = ["TASKS_DIR"]
