@@ -142,11 +142,10 @@ def run(
 
     if config is None:
         if isinstance(options.get("perturb"), str):
-            from vlm_bench.types.closed_loop import parse_perturb
+            from vlm_bench.executor.perturbations import perturb_options
 
-            options["perturb"], gust = parse_perturb(options["perturb"])
-            if gust:
-                options["uav_noise"] = gust
+            noise = options.get("uav_noise", 0.0)
+            options["perturb"], options["uav_noise"] = perturb_options(options["perturb"], noise)
         config = run_config(**options)
     elif options:
         raise ConfigError("give a RunConfig or keyword options, not both")

@@ -10,7 +10,8 @@ from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.executor.live_state import episode_now, render_now
-from vlm_bench.executor.perturb import BUMP_RANGE, Perturber
+from vlm_bench.executor.perturbations import Perturber
+from vlm_bench.executor.perturbations.bump import BUMP_RANGE
 from vlm_bench.prompting.builder import scene_text
 from vlm_bench.rules import parse_scene
 from vlm_bench.types.closed_loop import PerturbConfig

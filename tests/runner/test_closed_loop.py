@@ -17,11 +17,12 @@ import vlm_bench.api as api
 from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
+from vlm_bench.executor.perturbations import parse_perturb
 from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
 from vlm_bench.runner.execution_jobs import execute_job
 from vlm_bench.runner.executions import EXECUTION_LOST, Executions
 from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED
-from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
+from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vlm_bench.errors import ConfigError, UnknownNameError
-from vlm_bench.types.closed_loop import PerturbConfig, parse_perturb
+from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
 if TYPE_CHECKING:
@@ -157,14 +157,12 @@ def image_file(option: str, path: Path) -> None:
 
 
 def perturb_options(text: str | None, uav_noise: float) -> tuple[PerturbConfig | None, float]:
-    """``--perturb`` as perturbations, and the gust std from its ``gust`` or ``--uav-noise``.
+    """``--perturb`` as perturbations, and the gust std from its ``gust`` or ``--uav-noise``
+    (:func:`vlm_bench.executor.perturbations.perturb_options`, which the API calls too).
 
     Raises:
         ConfigError: A bad ``--perturb``, or a ``gust`` and a different ``--uav-noise``.
     """
-    if text is None:
-        return None, uav_noise
-    config, gust = parse_perturb(text)
-    if gust and uav_noise and gust != uav_noise:
-        raise ConfigError(f"--perturb gust={gust:g} and --uav-noise {uav_noise:g} disagree")
-    return config, gust or uav_noise
+    from vlm_bench.executor.perturbations import perturb_options as parsed
+
+    return parsed(text, uav_noise)

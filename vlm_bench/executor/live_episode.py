@@ -17,7 +17,7 @@ import numpy as np
 
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.executor.goals import check_goals, describe_goal
-from vlm_bench.executor.perturb import Perturber
+from vlm_bench.executor.perturbations.perturber import Perturber
 from vlm_bench.executor.sim_loop import SimLoop, SimulatorUnstable
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.executor.step_execution import (
@@ -97,6 +97,8 @@ class LiveEpisode:
         wall0 = time.perf_counter()
         fired = len(self.perturber.events) if self.perturber is not None else 0
         loop = self.loop
+        if self.perturber is not None and self.rounds > 0:
+            self.perturber.between_rounds(loop, self.rounds)
         loop.deadline = loop.time + self.config.sim_budget_s(len(plan))
         outcomes, failure = execute_steps(self.execution, plan)
         loop.deadline = None  # settling is bounded by settle_s

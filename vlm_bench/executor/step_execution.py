@@ -15,13 +15,13 @@ import numpy as np
 from vlm_bench.executor.motion.arm_core import ArmCore
 from vlm_bench.executor.motion.flight_clearance import FlightClearance
 from vlm_bench.executor.motion.uav_moves import fly_to, move_target, stow_arm
-from vlm_bench.executor.perturb import Perturber
+from vlm_bench.executor.perturbations.gust import gust_config
+from vlm_bench.executor.perturbations.perturber import Perturber
 from vlm_bench.executor.references import StepReferences
 from vlm_bench.executor.sim_loop import SimBudgetSpent, SimLoop, SimulatorUnstable, Skill
 from vlm_bench.sim.constants import ARM_BASE_BODY
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene, build_scene
-from vlm_bench.sim.uav_control import GustConfig
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.execution import (
     ArmTrace,
@@ -73,16 +73,7 @@ def execute_move(
 
 def episode_scene(episode: Episode, config: ExecutorConfig) -> Scene:
     """The episode's scene with the configured gusts on the UAV."""
-    gust = (
-        GustConfig(
-            force_std=config.uav_noise,
-            torque_std=0.05 * config.uav_noise,
-            seed=config.gust_seed(episode.task_id, episode.seed),
-        )
-        if config.uav_noise > 0
-        else None
-    )
-    return build_scene(episode, gust=gust)
+    return build_scene(episode, gust=gust_config(episode, config))
 
 
 def target_ids(episode: Episode) -> set[str]:
@@ -183,6 +174,8 @@ class PlanExecution:
                 if self.perturber is not None:
                     self.perturber.before_arm_step(loop, index, step)
                 failure, arm = self.arm_step(step)
+                if self.perturber is not None:
+                    self.perturber.after_arm_step(loop, index, step, failure is None)
         except (SimulatorUnstable, SimBudgetSpent) as err:
             code = (
                 FailureCode.SIM_BUDGET

@@ -76,4 +76,3 @@ class RoundOutcome(FiniteFrozen):
     )
     held: str | None = Field(default=None, description="What the gripper holds after it.")
     crashed: bool = Field(default=False, description="The executor raised.")
-

@@ -8,9 +8,9 @@ operational, such as ``concurrency`` or ``timeout_s``: passed in as ``operationa
 ``key``, ``token``, ``secret`` or ``password``, which are also redacted in the saved manifest), so a
 run can be resumed with a different batch size, a longer timeout or a fresh API key.
 
-Fields added after the first release (:data:`FIELDS_ADDED_LATER`) enter the hash only when set
-off their default, so configurations that could be written before they existed keep their hash
-(and their default run folder); ``execute`` is hashed as it always was. ``benchmark_version``
+Fields added after the first release enter the hash only when set off their default, at any
+depth (the one rule of :mod:`~vlm_bench.types.config_hash`), so configurations that could be
+written before they existed keep their hash (and their default run folder). ``benchmark_version``
 enters it from version 2 on: every configuration of a new benchmark version gets a new hash
 (and default run folder), while a version-1 configuration, read from a manifest that predates
 versions, keeps the hash it was written with.
@@ -39,6 +39,7 @@ from vlm_bench.errors import option_error
 from vlm_bench.types.base import FiniteFrozen, Frozen
 from vlm_bench.types.benchmark_version import BENCHMARK_VERSION, FIRST_VERSION
 from vlm_bench.types.closed_loop import HistoryMode, LoopConfig, LoopMode, PerturbConfig
+from vlm_bench.types.config_hash import VALUE_BEFORE, stable_fields
 from vlm_bench.types.execution import ExecutorConfig
 from vlm_bench.types.generation import GenerationConfig
 from vlm_bench.types.prompt import VIEWS, PromptConfig, Views
@@ -48,25 +49,6 @@ from vlm_bench.types.task import INSTRUCTION_VARIANTS, InstructionVariant, Suite
 
 RUN_SCHEMA_VERSION = 1
 """Version of the manifest layout written by this release."""
-
-FIELDS_ADDED_LATER: dict[str, Any] = {
-    "uav_noise": 0.0,
-    "images": True,
-    "scene_as_text": False,
-    "loop": "open",
-    "max_rounds": 3,
-    "step_budget": None,
-    "perturb": None,
-    "history": "text",
-}
-"""Fields added after the first release, with their defaults (hashed only when different)."""
-
-GENERATION_FIELDS_ADDED_LATER: dict[str, Any] = {"top_k": 0, "repetition_penalty": 1.0}
-"""Decoding settings added later, with their neutral values (hashed only when different)."""
-
-SCORING_FIELDS_ADDED_LATER: dict[str, Any] = {"loc_alignment": "order"}
-"""Scoring fields added later, with the value every run had before them: hashed only when
-different, and filled in when an older manifest, which lacks them, is read."""
 
 _SECRET = re.compile(r"key|token|secret|password", re.IGNORECASE)
 REDACTED = "***"
@@ -229,22 +211,13 @@ class RunConfig(FiniteFrozen):
         Args:
             operational: The backend's operational argument names (left out).
         """
-        data = self.model_dump(mode="json")
+        data = stable_fields(self)
         data["backend_args"] = {
             k: v
             for k, v in sorted(self.backend_args.items())
             if not is_secret_arg(k) and k not in operational
         }
         data["generation"].pop("batch_size", None)
-        for name, default in GENERATION_FIELDS_ADDED_LATER.items():
-            if data["generation"].get(name) == default:
-                del data["generation"][name]
-        for name, default in FIELDS_ADDED_LATER.items():
-            if data.get(name) == default:
-                del data[name]
-        for name, default in SCORING_FIELDS_ADDED_LATER.items():
-            if data["scoring"].get(name) == default:
-                del data["scoring"][name]
         if data["benchmark_version"] == FIRST_VERSION:
             del data["benchmark_version"]
         return data
@@ -336,8 +309,9 @@ class RunManifest(Frozen):
         config = data.get("config") if isinstance(data, dict) else None
         scoring = config.get("scoring") if isinstance(config, dict) else None
         if isinstance(scoring, dict):
-            for name, before in SCORING_FIELDS_ADDED_LATER.items():
-                scoring.setdefault(name, before)
+            for (model, name), before in VALUE_BEFORE.items():
+                if model == "ScoringConfig":
+                    scoring.setdefault(name, before)
         if isinstance(config, dict):
             config.setdefault("benchmark_version", FIRST_VERSION)
         return data
