@@ -5,12 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.cli.options import parse_seeds, parse_suite
+from vlm_bench.cli.options import parse_seeds, parse_suite, perturb_options
 from vlm_bench.cli.prompt_options import parse_views
 from vlm_bench.cli.run_cmds import parse_instructions
 from vlm_bench.errors import ConfigError
 from vlm_bench.export.options import ExportOptions, export_options
-from vlm_bench.types.closed_loop import LoopMode, PerturbConfig, parse_perturb
+from vlm_bench.types.closed_loop import LoopMode, PerturbConfig
 from vlm_bench.types.run import RunConfig, run_config
 
 
@@ -86,7 +86,7 @@ def task_options(
         **({"resolution": int(resolution)} if resolution is not None else {}),
         **({"k_shot": int(k_shot)} if k_shot is not None else {}),
     }
-    perturbations, gust = parse_perturb(_text(perturb)) if perturb is not None else (None, 0.0)
+    perturbations, gust = perturb_options(_text(perturb) if perturb is not None else None, 0.0)
     if dataset is not None and not Path(dataset).is_dir():
         raise ConfigError(f"-T dataset {dataset} is not a dataset folder")
     return TaskOptions(
