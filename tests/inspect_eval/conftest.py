@@ -87,18 +87,27 @@ class FakeOpenAI:
                 texts = (
                     [user]
                     if isinstance(user, str)
-                    else [p["text"] for p in user if p["type"] == "text"]
+                    else [
+                        p["text"] for p in user if p["type"] == "text" and not NOTE.match(p["text"])
+                    ]
                 )
-                key = episode_of(texts, keys)
                 round_index = sum(1 for m in messages if m["role"] == "assistant")
+                try:
+                    answer = script[episode_of(texts, keys)][round_index]
+                except (KeyError, IndexError) as exc:  # a 400 fails the test, never retried
+                    self._reply(400, {"error": {"message": f"unscripted: {exc}", "type": "x"}})
+                    return
                 payload = {
                     "id": "c", "object": "chat.completion", "created": 0, "model": body["model"],
                     "choices": [{"index": 0, "finish_reason": "stop", "message": {
-                        "role": "assistant", "content": script[key][round_index]}}],
+                        "role": "assistant", "content": answer}}],
                     "usage": {"prompt_tokens": 10, "completion_tokens": 5, "total_tokens": 15},
                 }  # fmt: skip
+                self._reply(200, payload)
+
+            def _reply(self, status: int, payload: dict[str, Any]) -> None:
                 data = json.dumps(payload).encode()
-                self.send_response(200)
+                self.send_response(status)
                 self.send_header("Content-Type", "application/json")
                 self.send_header("Content-Length", str(len(data)))
                 self.end_headers()

@@ -197,3 +197,17 @@ def test_a_missing_inspect_extra_names_it(monkeypatch: pytest.MonkeyPatch) -> No
     )
     with pytest.raises(MissingExtraError, match=r"pip install 'vlm-bench\[inspect\]'"):
         require_inspect()
+
+
+def test_inspect_cli_lists_and_numbers_read_as_the_cli_text() -> None:
+    from vlm_bench.inspect_eval.options import task_options
+
+    # inspect's -T turns "0,3" into ["0", "3"] (or [0, 3]) and "0" into 0.
+    options = task_options(
+        task=["standard_pick_place", "tower_stacking"], seeds=[0, 3], views=["uav", "side"],
+        loop="closed", perturb=["slip=0.3", "bump=0.3"],
+    )  # fmt: skip
+    assert options.episodes.tasks == ("standard_pick_place", "tower_stacking")
+    assert options.episodes.seeds == (0, 3) and options.episodes.views == ("uav", "side")
+    assert options.perturb is not None and options.perturb.bump == 0.3
+    assert task_options(seeds=0).episodes.seeds == (0,)

@@ -5,12 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from vlm_bench.cli.options import parse_seeds, parse_suite
+from vlm_bench.cli.options import parse_seeds, parse_suite, perturb_options
 from vlm_bench.cli.prompt_options import parse_views
 from vlm_bench.cli.run_cmds import parse_instructions
 from vlm_bench.errors import ConfigError
 from vlm_bench.export.options import ExportOptions, export_options
-from vlm_bench.types.closed_loop import LoopMode, PerturbConfig, parse_perturb
+from vlm_bench.types.closed_loop import LoopMode, PerturbConfig
 from vlm_bench.types.run import RunConfig, run_config
 
 
@@ -32,24 +32,32 @@ class TaskOptions:
     """Gust force std on the UAV (N) during execution (``perturb`` gust=N)."""
 
 
-def _tasks(text: str | list[str] | None) -> tuple[str, ...]:
-    if text is None:
+TaskArg = str | int | float | list[str | int | float]
+"""A ``-T`` value: inspect's CLI turns ``a,b`` into a list and ``0`` into a number."""
+
+
+def _text(value: TaskArg) -> str:
+    """A ``-T`` value as the CLI's comma-separated text (``seeds=0,3`` → ``"0,3"``)."""
+    return ",".join(map(str, value)) if isinstance(value, list) else str(value)
+
+
+def _tasks(value: TaskArg | None) -> tuple[str, ...]:
+    if value is None:
         return ()
-    parts = text if isinstance(text, list) else text.split(",")
-    return tuple(p.strip() for p in parts if p.strip())
+    return tuple(p.strip() for p in _text(value).split(",") if p.strip())
 
 
 def task_options(
-    task: str | list[str] | None = None,
+    task: TaskArg | None = None,
     suite: str | None = None,
-    seeds: str | int = "0-9",
+    seeds: TaskArg = "0-9",
     instruction: str = "both",
-    views: str | None = None,
+    views: TaskArg | None = None,
     resolution: int | None = None,
     k_shot: int | None = None,
     loop: str = "open",
     max_rounds: int = 3,
-    perturb: str | None = None,
+    perturb: TaskArg | None = None,
     dataset: str | None = None,
 ) -> TaskOptions:
     """Check and parse the ``-T`` options (one-line errors, before any episode is built).
@@ -72,13 +80,13 @@ def task_options(
     fields: dict[str, object] = {
         "tasks": _tasks(task),
         "suite": parse_suite(suite),
-        "seeds": tuple(parse_seeds(str(seeds))),
+        "seeds": tuple(parse_seeds(_text(seeds))),
         "instructions": parse_instructions(instruction),
-        **({"views": parse_views(views)} if views is not None else {}),
+        **({"views": parse_views(_text(views))} if views is not None else {}),
         **({"resolution": int(resolution)} if resolution is not None else {}),
         **({"k_shot": int(k_shot)} if k_shot is not None else {}),
     }
-    perturbations, gust = parse_perturb(perturb) if perturb is not None else (None, 0.0)
+    perturbations, gust = perturb_options(_text(perturb) if perturb is not None else None, 0.0)
     if dataset is not None and not Path(dataset).is_dir():
         raise ConfigError(f"-T dataset {dataset} is not a dataset folder")
     return TaskOptions(

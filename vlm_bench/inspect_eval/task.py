@@ -11,7 +11,7 @@ from inspect_ai.dataset import MemoryDataset  # noqa: E402
 from inspect_ai.model import GenerateConfig  # noqa: E402
 from inspect_ai.solver import generate  # noqa: E402
 
-from vlm_bench.inspect_eval.options import task_options  # noqa: E402
+from vlm_bench.inspect_eval.options import TaskArg, task_options  # noqa: E402
 from vlm_bench.inspect_eval.samples import task_samples  # noqa: E402
 from vlm_bench.inspect_eval.scoring import plan_scorer  # noqa: E402
 from vlm_bench.resources import results_dir  # noqa: E402
@@ -20,16 +20,16 @@ from vlm_bench.storage import default_snapshot_cache  # noqa: E402
 
 @task
 def aerial(
-    task: str | list[str] | None = None,
+    task: TaskArg | None = None,
     suite: str | None = None,
-    seeds: str | int = "0-9",
+    seeds: TaskArg = "0-9",
     instruction: str = "both",
-    views: str | None = None,
+    views: TaskArg | None = None,
     resolution: int | None = None,
     k_shot: int | None = None,
     loop: str = "open",
     max_rounds: int = 3,
-    perturb: str | None = None,
+    perturb: TaskArg | None = None,
     dataset: str | None = None,
 ) -> Task:
     """The benchmark's episodes as an inspect task, scored with the AIR-VLA paper's metrics.
