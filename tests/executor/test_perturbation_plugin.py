@@ -60,3 +60,8 @@ def test_a_kind_defined_outside_the_package_runs_end_to_end(tmp_path: Path) -> N
 def test_an_unknown_kind_is_refused_with_the_valid_names() -> None:
     with pytest.raises(ConfigError, match="slip=P,bump=P,gust=N"):
         vlm_bench.run(model="oracle", perturb="wind=1", out="unused")
+
+
+def test_the_api_parses_perturb_as_the_cli_does() -> None:
+    with pytest.raises(ConfigError, match="disagree"):
+        vlm_bench.run(model="oracle", perturb="gust=2", uav_noise=1.0, out="unused")
