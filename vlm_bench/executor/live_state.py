@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import math
 
+import mujoco
 import numpy as np
 
 from vlm_bench.executor.live_episode import LiveEpisode
@@ -79,9 +80,15 @@ def state_digest(live: LiveEpisode) -> str:
 def render_now(
     live: LiveEpisode, now: Episode, views: tuple[str, ...], size: int, labels: bool
 ) -> dict[str, bytes]:
-    """PNG bytes of ``views`` of the live scene, labels where the objects are ``now``."""
+    """PNG bytes of ``views`` of the live scene, labels where the objects are ``now``.
+
+    Renders a copy of the simulation's data: rendering recomputes positions in the data it
+    draws, which must not reach the simulation that continues (every driver of the closed
+    loop then continues from the same state, whether or not it rendered)."""
     if not views:
         return {}
     loop, scene = live.loop, live.loop.scene
-    state = Scene(now, scene.spec, loop.model, loop.data, loop.controller)
+    scratch = mujoco.MjData(loop.model)
+    mujoco.mj_copyData(scratch, loop.model, loop.data)
+    state = Scene(now, scene.spec, loop.model, scratch, loop.controller)
     return {v: to_png(img) for v, img in render_scene(state, views, size, labels).items()}

@@ -2,13 +2,10 @@
 ``rules`` planner makes from the state a failed round left, until the task is done or the loop
 ends (docs/training.md#replanning-rows).
 
-This is a closed-loop run with the GT as round 0's answer and ``rules`` as the planner of every
-replan, in one simulation per episode. It follows :mod:`vlm_bench.runner.loop_jobs` (the round
-executes on one live episode; where it fails, the episode is frozen, then the state is described
-and rendered, and the next round continues from the frozen episode) and
-:class:`~vlm_bench.runner.loop_executions.LoopExecutions` (the feedback, the step budget, the end
-rules), so that a replan request built from a :class:`FailedRound` is the one a run sends:
-``tests/training/test_sft_rows.py`` checks it against a real run's requests.
+This is a closed-loop episode with the GT as round 0's answer and ``rules`` as the planner of
+every replan, driven by the same round machine as a run (:mod:`vlm_bench.rounds`: the feedback,
+the step budget, the end rules), so that a replan request built from a :class:`FailedRound` is
+the one a run sends: ``tests/training/test_sft_rows.py`` checks it against a real run's requests.
 """
 
 from __future__ import annotations
@@ -18,10 +15,10 @@ from dataclasses import dataclass
 from vlm_bench.backends.rules_planner import RulesBackend
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.prompting import build_replan_prompt
-from vlm_bench.runner.loop_rounds import ran_steps
-from vlm_bench.types.closed_loop import ExecutedStep, Feedback
+from vlm_bench.rounds import ReplanRequest, RoundMachine, StateView, drive_episode
+from vlm_bench.types.closed_loop import Feedback
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionSummary
+from vlm_bench.types.execution import ExecutionSummary, FailureCode
 from vlm_bench.types.generation import RequestMeta
 from vlm_bench.types.plan import ArmStep, UavStep
 from vlm_bench.types.prompt import PromptConfig
@@ -93,57 +90,40 @@ def recover(episode: Episode, config: RunConfig) -> Recovery:
     after each failed round, up to ``config.max_rounds`` replans within the step budget.
 
     The views of each failed state are ``config``'s (none with ``images`` off)."""
-    from vlm_bench.executor.live_snapshot import freeze, thaw
-    from vlm_bench.executor.live_state import episode_now, render_now, state_digest
-    from vlm_bench.runner.plan_executor import crash_summary
     from vlm_bench.sim.mujoco_log import route_mujoco_log
-    from vlm_bench.sim.scene import build_spec
 
     route_mujoco_log()
-    views = config.views if config.images else ()
-    budget = config.loop_config().budget(len(episode.gt_plan))
+    machine = RoundMachine.closed(config.loop_config(), len(episode.gt_plan))
     live = LiveEpisode(episode, config.executor_config())
-    plan: Steps = tuple(episode.gt_plan)
-    executed: list[ExecutedStep] = []
+    view = StateView(
+        views=config.views if config.images else (), size=config.resolution, labels=config.labels
+    )
     failed: list[FailedRound] = []
-    executions: list[ExecutionSummary] = []
-    while True:
-        try:
-            summary = ExecutionSummary.of(live.execute(list(plan)))
-        except Exception as exc:  # noqa: BLE001  (an executor bug ends this episode, not the export)
-            executions.append(crash_summary(exc, 0.0))
-            return Recovery(episode, tuple(failed), tuple(executions), "executor_crash")
-        executions.append(summary)
-        executed.extend(ran_steps(plan, summary))
-        end = _end(summary, len(executions), config.max_rounds, len(executed), budget)
-        if end is not None:
-            return Recovery(episode, tuple(failed), tuple(executions), end)
-        frozen = freeze(live)  # before rendering, as a run's worker does
-        digest = state_digest(live)
-        now = episode_now(live)
-        images = render_now(live, now, views, config.resolution, config.labels)
-        feedback = Feedback(
-            round=len(executions),
-            executed=tuple(executed),
-            held=live.held,
-            incomplete=summary.steps_ok,
+
+    def ask(request: ReplanRequest) -> Steps | None:
+        state = request.state
+        answer = rules_replan(episode, state.now, request.feedback, state.digest)
+        if answer is not None:
+            failed.append(
+                FailedRound(request.feedback, state.now, state.images, state.digest, answer)
+            )
+        return answer
+
+    try:
+        driven = drive_episode(machine, live, tuple(episode.gt_plan), ask, view)
+    except Exception as exc:  # noqa: BLE001  (an executor bug ends this episode, not the export)
+        done = tuple(e for e in machine.executions if e is not None)
+        crash = ExecutionSummary(
+            exec_success=False,
+            steps_ok=False,
+            n_steps_done=0,
+            s_task=0.0,
+            sim_time_s=0.0,
+            failure_reason=f"executor raised {type(exc).__name__}: {exc}",
+            failure_code=FailureCode.EXECUTOR_CRASH,
+            wall_time_s=0.0,
         )
-        answer = rules_replan(episode, now, feedback, digest)
-        if answer is None:
-            return Recovery(episode, tuple(failed), tuple(executions), "no_plan")
-        failed.append(FailedRound(feedback, now, images, digest, answer))
-        plan = answer[: budget - len(executed)]
-        live = thaw(frozen, build_spec(episode))
-
-
-def _end(
-    summary: ExecutionSummary, rounds: int, max_rounds: int, used: int, budget: int
-) -> str | None:
-    """Why the loop ends after a round, as a run decides it, or None to replan."""
-    if summary.exec_success:
-        return "success"
-    if rounds > max_rounds:
-        return "max_rounds"
-    if used >= budget:
-        return "budget"
-    return None
+        return Recovery(episode, tuple(failed), (*done, crash), "executor_crash")
+    executions = tuple(ExecutionSummary.of(r) for r in driven.results)
+    end = driven.outcome.end if driven.outcome is not None else "no_plan"
+    return Recovery(episode, tuple(failed), executions, end)

@@ -18,14 +18,14 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from vlm_bench.backends.builtin import round_request_id
 from vlm_bench.backends.hf import hf_messages
-from vlm_bench.prompting import build_replan_prompt
 from vlm_bench.prompting.templates import plan_json
+from vlm_bench.rounds import ReplanRequest
+from vlm_bench.rounds.replan_prompt import Conversation, replan_generation_request
+from vlm_bench.rounds.state import RoundState
 from vlm_bench.runner.episode_request import episode_request
-from vlm_bench.runner.loop_rounds import Turns, chain_hash, history_turns, kept_request
 from vlm_bench.runner.selection import EpisodeRef
-from vlm_bench.training.recovery import FailedRound, Recovery, replan_meta
+from vlm_bench.training.recovery import FailedRound, Recovery
 from vlm_bench.types.base import Frozen
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import GenerationRequest
@@ -101,22 +101,25 @@ def _example(
 
 
 def replan_request(
-    config: RunConfig, ref: EpisodeRef, episode: Episode, failed: FailedRound, turns: Turns
+    config: RunConfig,
+    ref: EpisodeRef,
+    episode: Episode,
+    failed: FailedRound,
+    conversation: Conversation,
 ) -> tuple[str, GenerationRequest]:
     """The cache key and request of a replan, as a closed-loop run builds them after
-    ``failed`` with the conversation ``turns`` before it."""
-    images = failed.images if config.images and failed.images else None
-    prompt_config = config.prompt_config(ref.variant)
-    prompt = build_replan_prompt(
-        episode, failed.now, images, prompt_config, failed.feedback, failed.digest
+    ``failed`` with ``conversation`` before it."""
+    state = RoundState(failed.now, failed.feedback.held, failed.images, failed.digest)
+    request, key = replan_generation_request(
+        ref.key,
+        episode,
+        ReplanRequest(failed.feedback, state),
+        config.prompt_config(ref.variant),
+        conversation,
+        constrained=config.generation.constrained,
+        show_images=config.images and bool(failed.images),
     )
-    request = prompt.to_request(
-        round_request_id(ref.key, failed.feedback.round),
-        episode_id=ref.key,
-        meta=replan_meta(episode, failed.feedback),
-    )
-    request = request.model_copy(update={"history": history_turns(turns)})
-    return chain_hash(prompt.prompt_hash, turns, config.history), request
+    return key, request
 
 
 def episode_examples(
@@ -144,9 +147,10 @@ def episode_examples(
     yield _example(ref, episode, 0, request, answer, prompt.prompt_hash)
     if recovery is None or not (recovery.recovered or unrecovered):
         return
-    turns: Turns = [(kept_request(request, config.history), answer, prompt.prompt_hash)]
+    conversation = Conversation(history=config.history)
+    conversation.add(request, answer, prompt.prompt_hash)
     for failed in recovery.failed:
-        key, replan = replan_request(config, ref, episode, failed, turns)
+        key, replan = replan_request(config, ref, episode, failed, conversation)
         answer = target_text(failed.answer)
         yield _example(ref, episode, failed.feedback.round, replan, answer, key)
-        turns.append((kept_request(replan, config.history), answer, key))
+        conversation.add(replan, answer, key)
