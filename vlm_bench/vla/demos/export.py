@@ -22,9 +22,10 @@ import numpy as np
 
 from vlm_bench.catalog.gt_episodes import MATERIALISED_SEEDS
 from vlm_bench.catalog.tasks import get_task, tasks_in
-from vlm_bench.episodes import get_episode
+from vlm_bench.episodes.train_split import train_episodes
 from vlm_bench.errors import ConfigError
 from vlm_bench.sim.render import SnapshotRenderer
+from vlm_bench.types.episode import Episode
 from vlm_bench.types.plan import ArmStep
 from vlm_bench.vla.demos.card import demos_card
 from vlm_bench.vla.demos.config import (
@@ -39,6 +40,10 @@ from vlm_bench.vla.demos.lerobot_writer import EpisodeData, LeRobotWriter, requi
 from vlm_bench.vla.demos.record import Demonstration, record_demo
 from vlm_bench.vla.demos.variation import draw_variation
 from vlm_bench.vla.observation import ObservationConfig
+
+REPEAT = "repeats_a_test_episode"
+"""Why a train seed is left out when its episode repeats a test episode
+(:func:`~vlm_bench.episodes.train_split.repeat_of`)."""
 
 
 def demo_source(demo: Demonstration) -> dict[str, Any]:
@@ -138,8 +143,11 @@ def export_demos(
     renderer = SnapshotRenderer()
     try:
         for task_id in task_ids:
-            for seed in config.seeds:
-                demo = _record(task_id, seed, config, observation, renderer)
+            for split in train_episodes(task_id, config.seeds, allow_test_seeds=True):
+                if split.repeats is not None:  # a train seed whose scene is a test episode's
+                    summary.failures[REPEAT] += 1
+                    continue
+                demo = _record(split.episode, config, observation, renderer)
                 summary.executions += 1
                 if demo.kept:
                     summary.kept += 1
@@ -159,14 +167,12 @@ def export_demos(
 
 
 def _record(
-    task_id: str,
-    seed: int,
+    episode: Episode,
     config: DemoExportConfig,
     observation: ObservationConfig,
     renderer: SnapshotRenderer,
 ) -> Demonstration:
-    episode = get_episode(task_id, seed)
-    draw = draw_variation(config.variation, task_id, seed)
+    draw = draw_variation(config.variation, episode.task_id, episode.seed)
     return record_demo(episode, draw, observation, renderer)
 
 
