@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+import mujoco
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import Field, ValidationError
@@ -161,7 +162,7 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
             "instruction": episode.instruction(self.variant),
             "object_ids": episode.object_ids(),
             "gt_plan": episode.gt_plan,
-            "goals": check_goals(episode, self._loop.model, self._loop.data),
+            "goals": self._goals(self._loop),
         }
         return self._observation(self._loop), info
 
@@ -190,7 +191,7 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
                 "failure": str(err),
             }
             return self._observation(loop), 0.0, True, truncated, info
-        goals = check_goals(self.episode, loop.model, loop.data)
+        goals = self._goals(loop)
         success = bool(goals) and all(goals)
         reward = sum(goals) / len(goals) if goals else 0.0
         info = {
@@ -222,6 +223,14 @@ class AerialManipulationEnv(gym.Env[Observation, NDArray[np.float32]]):
         if self._loop is None:
             raise ConfigError("call reset() before step() or render()")
         return self._loop
+
+    def _goals(self, loop: SimLoop) -> tuple[bool, ...]:
+        """Each goal's truth, judged on a copy of the data: the check recomputes positions,
+        which must not reach the simulation (a replay of recorded actions then follows the
+        recorded execution exactly)."""
+        scratch = mujoco.MjData(loop.model)
+        mujoco.mj_copyData(scratch, loop.model, loop.data)
+        return check_goals(self.episode, loop.model, scratch)
 
     def _live_loop(self) -> SimLoop:
         loop = self._require_loop()
