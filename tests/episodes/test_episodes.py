@@ -81,20 +81,21 @@ def test_first_move_directions_are_balanced(episodes: dict) -> None:  # type: ig
     total = sum(firsts.values())
     for direction in Direction:
         if direction.is_horizontal:
-            assert 0.12 <= firsts[direction] / total <= 0.13, (direction, firsts)
+            # Balanced per seed over the tasks (7 or 8 of 60 each): 70-80 of 600.
+            assert 0.11 <= firsts[direction] / total <= 0.14, (direction, firsts)
 
 
-def test_vertical_moves_for_drawers(episodes: dict) -> None:  # type: ignore[type-arg]
-    with_vertical = {
-        key[0]
-        for key, ep in episodes.items()
-        if any(isinstance(s, UavStep) and not s.direction.is_horizontal for s in ep.gt_plan)
-    }
-    top_drawer_tasks = {
-        t.id for t in all_tasks() if any(s.object == "top_drawer" for s in t.arm_steps)
-    }
-    assert top_drawer_tasks, "the task list has top-drawer tasks"
-    assert top_drawer_tasks <= with_vertical
+def test_drawer_first_tasks_start_level(episodes: dict) -> None:  # type: ignore[type-arg]
+    """A first object on no table (a drawer) starts level: any vertical move there would be told
+    by the stated altitude (version 3)."""
+    top_drawer_first = {t.id for t in all_tasks() if t.arm_steps[0].object == "top_drawer"}
+    assert top_drawer_first, "the task list has top-drawer-first tasks"
+    for (task_id, _), ep in episodes.items():
+        if task_id in top_drawer_first:
+            first = ep.gt_plan[
+                : next(i for i, s in enumerate(ep.gt_plan) if isinstance(s, ArmStep))
+            ]
+            assert all(s.direction.is_horizontal for s in first), task_id  # type: ignore[union-attr]
 
 
 def test_gt_moves_follow_their_directions(episodes: dict) -> None:  # type: ignore[type-arg]
