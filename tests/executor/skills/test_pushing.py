@@ -75,3 +75,12 @@ def test_a_push_stroke_is_planned_along_the_line_the_hand_takes() -> None:
     result = execute_plan(episode, episode.gt_plan)
     assert result.exec_success, result.failure_reason
     assert result.goals == (True,)
+
+
+def test_a_push_from_a_low_uav_behind_the_object_is_planned_from_higher() -> None:
+    """Version 3's non_prehensile_push_cube seed 0: the UAV flies back to the cube and waits
+    6 cm below version 2's altitude; no stroke is reachable from there or lower, one from 6 cm
+    higher is (``Pusher._assists`` tries higher last)."""
+    episode = get_episode("non_prehensile_push_cube", 0)
+    result = execute_plan(episode, episode.gt_plan)
+    assert result.exec_success, result.failure_reason

@@ -160,13 +160,15 @@ class Pusher:
     def _assists(self, start: FloatArray, end: FloatArray) -> list[BaseMove]:
         """UAV moves to try: none, then backing away from the push's midpoint until it lies
         ``WORK_RADIUS`` from the arm base, or back along the push by up to ``MAX_BACK``; then
-        the same 6 cm lower."""
+        the same 6 cm lower; then 6 cm higher (a hand that must come down over the far side of
+        a low UAV)."""
         away = self.hand.planner.back_off((start + end) / 2, WORK_RADIUS, WORK_RADIUS)
         back = -(end - start)[:2] / max(float(np.linalg.norm(end - start)), 1e-9)
         shifts = [np.zeros(3)] if away is None else [np.zeros(3), away]
         shifts += [np.append(back * d, 0.0) for d in (0.1, MAX_BACK)]
         lower = [s + np.array([0.0, 0.0, -0.06]) for s in shifts]
-        return [BaseMove(s) for s in (*shifts, *lower)]
+        higher = [s + np.array([0.0, 0.0, 0.06]) for s in shifts]
+        return [BaseMove(s) for s in (*shifts, *lower, *higher)]
 
     def _plan(self, obj: str, path: PushPath) -> PushPlan | None:
         """How to push along ``path``: by the arm where it reaches the whole stroke, else by
