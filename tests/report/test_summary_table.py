@@ -108,6 +108,8 @@ def test_rows_are_ordered_like_the_paper(frame: pd.DataFrame) -> None:
         "S_total",
         "Succ",
         "Loc_over_blind",
+        "Move_ratio",
+        "S_loc_prec",
         "n",
         "n_error",
         "missing_groups",
@@ -138,14 +140,14 @@ def test_wide_markdown_and_rich_layouts(frame: pd.DataFrame) -> None:
         ("m2", "explicit"),
     ]
     assert wide.columns[0] == ("base_manipulation", "S_plan")
-    assert wide.columns[-1] == ("overall", "Loc_over_blind")
+    assert wide.columns[-1] == ("overall", "S_loc_prec")  # the diagnostics follow ΔLoc
     assert wide.loc[("m1", "explicit"), ("overall", "S_total")] == pytest.approx(60.0)
     md = summary_markdown(long)
     header = md.splitlines()[0]
     assert header.startswith("| Model | Instr. | BM Plan | BM Loc | BM Obj | BM Skill | BM Tot")
     assert "| Overall Tot | Overall Succ | Overall ΔLoc |" in header
     assert "| m1 | explicit | 100.0 |" in md and "LH = Long-Horizon" in md
-    assert len(summary_rich(long).columns) == 2 + 3 * 7
+    assert len(summary_rich(long).columns) == 2 + 3 * 9  # 7 values and 2 diagnostics per group
     narrow = summary_rich(long, width=80)
     assert [c.header for c in narrow.columns][2:4] == ["Suite", "Plan"]
     assert narrow.row_count == len(long)

@@ -89,7 +89,7 @@ def table_notes(
             system = tuple(row[k] for k in keys)
             values = " / ".join(fmt_diagnostic(d, row[d]) for d in shown)
             parts.append(f"{escape(names.get(system, '/'.join(map(str, system))))} {values}")
-        what = " / ".join(DIAGNOSTIC_TITLES[d] for d in shown)
+        what = " / ".join(escape(DIAGNOSTIC_TITLES[d]) for d in shown)
         notes.append(
             f"Diagnostics (Overall; not the paper's metrics), {what}: " + "; ".join(parts) + "."
         )
