@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import vlm_bench.api as api
-from vlm_bench.runner import evaluate
 from vlm_bench.runner.rescore import score_output
+from vlm_bench.scoring import answer as scoring_answer
 from vlm_bench.storage import latest_records
 from vlm_bench.types.parse import ParseCode, Repair
 from vlm_bench.types.records import OutputScore
@@ -102,14 +102,14 @@ def test_a_plan_longer_than_the_schema_allows_is_too_long() -> None:
 def test_what_scoring_raises_is_the_outputs_recorded_error(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    real = evaluate.score_plan
+    real = scoring_answer.score_plan
 
     def fragile(parsed, gt, config):  # type: ignore[no-untyped-def]
         if parsed.steps:
             raise ArithmeticError("scoring bug")
         return real(parsed, gt, config)
 
-    monkeypatch.setattr(evaluate, "score_plan", fragile)
+    monkeypatch.setattr(scoring_answer, "score_plan", fragile)
     score = score_output(TASK, SEED, '[{"tasktype": "UAV", "direction": "up"}]')
     assert score.parse.errors == (ParseCode.ERROR,) and score.error_tags[0] == "error"
     assert score.parse.detail == "ArithmeticError: scoring bug"

@@ -11,10 +11,10 @@ import pandas as pd
 import pytest
 
 import vlm_bench.api as api
-import vlm_bench.executor
 from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
 from vlm_bench.executor import execute_plan
+from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.report import EXEC_VALUES, SUMMARY_COLUMNS
 from vlm_bench.runner import PlanExecutor, episode_noise_seed, record_plan
 from vlm_bench.runner.plan_executor import CRASH_PREFIX
@@ -134,7 +134,7 @@ def test_an_executor_exception_is_a_recorded_failure(
     def explode(*args: object, **kwargs: object) -> None:
         raise RuntimeError("boom")
 
-    monkeypatch.setattr(vlm_bench.executor, "execute_plan", explode)
+    monkeypatch.setattr(LiveEpisode, "execute", explode)
     inline = ExecutionOptions(workers=0)  # the patch lives in this process only
     result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), execution=inline)
     hop = next(r for r in result.records if r.variant == "explicit")
@@ -151,12 +151,12 @@ def test_a_non_finite_execution_number_is_a_recorded_crash(
     """A NaN or infinity from the simulator never reaches a record (JSON has no form for it, and
     pydantic would write null, which the record could not be read back from): the execution is a
     recorded executor crash naming the field, and the run folder reads back."""
-    real = vlm_bench.executor.execute_plan
+    real = LiveEpisode.execute
 
     def blown_up(*args: object, **kwargs: object) -> object:
         return real(*args, **kwargs).model_copy(update={"sim_time_s": math.inf})  # type: ignore[arg-type]
 
-    monkeypatch.setattr(vlm_bench.executor, "execute_plan", blown_up)
+    monkeypatch.setattr(LiveEpisode, "execute", blown_up)
     inline = ExecutionOptions(workers=0)  # the patch lives in this process only
     result = api.run(_config(), out=tmp_path / "run", backend=Scripted(), execution=inline)
     hop = next(r for r in result.records if r.variant == "explicit")

@@ -33,14 +33,8 @@ from vlm_bench.episodes import get_episode
 from vlm_bench.executor.live_episode import LiveEpisode
 from vlm_bench.inspect_eval.options import TaskOptions, loop_run_config
 from vlm_bench.inspect_eval.scoring import LOOP_OUTCOME, ROUND_ZERO
-from vlm_bench.rounds import (
-    Conversation,
-    ReplanRequest,
-    RoundMachine,
-    StateView,
-    drive_episode,
-    replan_generation_request,
-)
+from vlm_bench.rounds import ReplanRequest, RoundMachine, StateView, drive_episode
+from vlm_bench.rounds.replan_prompt import Conversation, replan_generation_request
 from vlm_bench.runner.episode_request import episode_request, run_snapshots
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.storage import SnapshotCache

@@ -63,9 +63,11 @@ TABLE_EXEC_VALUES = ("exec_success", "S_task")
 MISSING = "missing_groups"
 """Column of :func:`summary_long`: on overall rows, the table's groups the row has no episode
 in, comma-separated ("" when it covers them all: a complete Overall); "" on other rows."""
-SUMMARY_COLUMNS = ("model", "instruction", "suite", *VALUES, "n", "n_error", MISSING)
+SUMMARY_COLUMNS = (
+    "model", "instruction", "suite", *VALUES, *DIAGNOSTICS, "n", "n_error", MISSING
+)  # fmt: skip
 """Columns of :func:`summary_long` (and ``summary.csv``) without execution; with execution,
-:data:`EXEC_VALUES` follow ``Loc_over_blind``."""
+:data:`EXEC_VALUES` follow the diagnostics."""
 PERCENT = ("Succ", "exec_success")
 """Boolean columns reported as percentages (with the closed loop's: :func:`is_percent`)."""
 

@@ -63,8 +63,8 @@ def run_closed_loop(
     """Plan, execute and replan up to ``max_rounds`` times in one simulation (module doc);
     ``step_budget``: steps over all rounds (None: 3 x the GT plan's, as in a benchmark run);
     ``config`` holds the gusts and perturbations (default: the benchmark's, none)."""
-    loop = LoopConfig(max_rounds=max_rounds, step_budget=step_budget)
-    machine = RoundMachine.closed(loop, len(episode.gt_plan))
+    budget = LoopConfig(step_budget=step_budget).budget(len(episode.gt_plan))
+    machine = RoundMachine(max_rounds, budget)  # max_rounds 0: the open loop
     live = LiveEpisode(episode, config, arm_skills=arm_skills)
 
     def ask(request: ReplanRequest) -> list[UavStep | ArmStep]:
