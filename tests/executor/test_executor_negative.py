@@ -43,8 +43,8 @@ def test_gt_plan_succeeds(episode: Episode) -> None:
 
 def test_wrong_first_direction_leaves_the_object_out_of_reach(episode: Episode) -> None:
     move, pick, place = episode.gt_plan
-    assert isinstance(move, UavStep) and move.direction is Direction.RIGHT
-    result = _run(episode, [UavStep(direction=Direction.LEFT), pick, place])
+    assert isinstance(move, UavStep) and move.direction is Direction.FRONTRIGHT
+    result = _run(episode, [UavStep(direction=Direction.BACKLEFT), pick, place])
     assert result.steps[1].status == "failed"
     assert result.failure_reason == "step 1: green_cube is out of reach"
     assert result.failure_code is FailureCode.OUT_OF_REACH

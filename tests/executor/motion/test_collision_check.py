@@ -118,7 +118,7 @@ def test_filtered_check_reports_what_the_full_scene_reports(task: str, held: str
         assert checker.collisions(data, q, query) == expected
         assert checker.collisions(data, q, query) == expected  # from the cache
         nonempty += bool(expected)
-    assert nonempty > 20  # the postures do run into things
+    assert nonempty >= 5  # the postures do run into things (9 of 150 in version 3's GT)
 
 
 def test_cache_follows_the_scene() -> None:
