@@ -66,8 +66,9 @@ def test_blind_s_loc_stays_under_30_5_with_perfect_language(tmp_path: Path) -> N
     scores = [r.scores for r in result.records if r.scores is not None]
     assert len(scores) == 600
     s_loc = sum(s.s_loc for s in scores) / len(scores)
-    # The aim is under 30 (open); version 3 measured 30.01: padding every segment (free in S_loc) and the 50 % of a binary
-    # up/down guess where the GT has one; without the padding's credit it is under 26.
+    # The aim is under 30 (open); version 3 measured 30.01: padding every segment (free in
+    # S_loc) and the 50 % of a binary up/down guess where the GT has one; without the padding's
+    # credit it is under 26.
     assert 15.0 < s_loc < 30.5, s_loc
     precision = sum(s.s_loc_precision for s in scores) / len(scores)
     assert precision < 27.0, precision
