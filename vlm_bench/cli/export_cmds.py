@@ -13,11 +13,14 @@ from vlm_bench.cli.prompt_options import (
     DEFAULT_K_SHOT,
     DEFAULT_RESOLUTION,
     DEFAULT_VIEWS,
+    InstructionOption,
     KShotOption,
     NoObjectListOption,
     NoSnapshotCacheOption,
     ResolutionOption,
     SceneAsTextOption,
+    SuiteOption,
+    TaskOption,
     ViewsOption,
     prompt_fields,
 )
@@ -31,10 +34,10 @@ export_app = typer.Typer(
 
 def dataset(
     out: Annotated[Path, typer.Argument(metavar="OUT", help="Dataset folder to write.")],
-    task: Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")] = None,
-    suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")] = None,
+    task: TaskOption = None,
+    suite: SuiteOption = None,
     seeds: Annotated[str, typer.Option(help="Seeds: 0-9 or 0,3,5.")] = "0-9",
-    instruction: Annotated[str, typer.Option(help="explicit, implicit or both.")] = "both",
+    instruction: InstructionOption = "both",
     views: ViewsOption = DEFAULT_VIEWS,
     resolution: ResolutionOption = DEFAULT_RESOLUTION,
     k_shot: KShotOption = DEFAULT_K_SHOT,

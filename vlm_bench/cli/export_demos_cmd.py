@@ -9,7 +9,7 @@ from typing import Annotated
 import typer
 
 from vlm_bench.cli.options import parse_seeds, parse_suite, parse_variant
-from vlm_bench.cli.prompt_options import parse_views
+from vlm_bench.cli.prompt_options import SuiteOption, TaskOption, parse_views
 
 
 def export_demos(
@@ -17,8 +17,8 @@ def export_demos(
     seeds: Annotated[str, typer.Option(help="Train seeds: 10-59 or 10,12 (0-9 are test).")] = (
         "10-59"
     ),
-    task: Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")] = None,
-    suite: Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")] = None,
+    task: TaskOption = None,
+    suite: SuiteOption = None,
     instruction: Annotated[
         str, typer.Option(help="Instruction variant stored as the task: explicit or implicit.")
     ] = "explicit",

@@ -30,6 +30,9 @@ DEFAULT_BATCH_SIZE: int = _generation_default("batch_size")
 DEFAULT_MAX_NEW_TOKENS: int = _generation_default("max_new_tokens")
 DEFAULT_TEMPERATURE: float = _generation_default("temperature")
 
+TaskOption = Annotated[list[str] | None, typer.Option(help="Task id (repeatable).")]
+SuiteOption = Annotated[str | None, typer.Option(help="Only this suite (e.g. lh).")]
+InstructionOption = Annotated[str, typer.Option(help="explicit, implicit or both.")]
 ViewsOption = Annotated[str, typer.Option("--views", help="Views shown, comma-separated.")]
 ResolutionOption = Annotated[int, typer.Option("--resolution", help="Snapshot side in pixels.")]
 KShotOption = Annotated[int, typer.Option("--k-shot", help="Few-shot examples in the prompt.")]
