@@ -8,8 +8,14 @@ the stated start altitude and, for the learned ones, the task's *other* seeds' G
 (leave-one-seed-out). Printed per planner, as means over the episodes of both instructions
 (they share their GT plans): S_plan, S_loc, S_loc_prec, Move_ratio and S_total.
 
-* ``blind``: the builtin floor (:mod:`vlm_bench.backends.blind_planner`): expected-credit
-  guesses from the other seeds, weighted by how close their stated altitude is.
+* ``blind``: the builtin floor (:mod:`vlm_bench.backends.blind_planner`): in every segment the
+  horizontal move of highest expected credit over all tasks' other seeds and the ``up``/``down``
+  most of the task's other seeds have.
+* ``constant``: no benchmark data: ``front`` then ``down`` before every ARM step.
+* ``altitude_weighted``: the version-3 ``blind`` of its first measurement: expected-credit
+  guesses from the task's own other seeds only, each weighted by how close its stated altitude
+  is (Gaussian, 0.1 m). Leaving one seed out of a task whose sectors are balanced over its
+  seeds favours every direction but the held-out one.
 * ``altitude_rule``: no benchmark data. Assumes the first object stands on a 0.75 m table, so
   the arm works from about 1.5 m: ``down`` above 1.7 m, ``up`` below 1.3 m, in the first segment;
   one ``front`` move before every ARM step.
@@ -24,14 +30,17 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import math
 from collections import Counter
 from collections.abc import Callable, Sequence
+from functools import cache
 
 from vlm_bench.backends.blind_planner import (
     Moves,
     blind_plan,
+    guess_horizontal,
+    guess_vertical,
     segment_table,
-    stated_altitudes,
 )
 from vlm_bench.catalog.gt_episodes import load_materialised
 from vlm_bench.catalog.tasks import all_tasks
@@ -80,8 +89,40 @@ def _assemble(episode: Episode, moves: Callable[[int], list[Direction]]) -> Plan
     return plan
 
 
+@cache
+def stated_altitudes() -> dict[tuple[str, int], float]:
+    """(task id, seed) → the start altitude the user turn states (m, two decimals)."""
+    return {
+        (task.id, episode.seed): round(episode.uav_start.pos[2], 2)
+        for task in all_tasks()
+        for episode in load_materialised(task).episodes
+    }
+
+
 def _altitude(episode: Episode) -> float:
     return stated_altitudes()[(episode.task_id, episode.seed)]
+
+
+def constant(episode: Episode) -> Plan:
+    return _assemble(episode, lambda k: [Direction.FRONT, Direction.DOWN])
+
+
+def altitude_weighted(episode: Episode, bandwidth: float = 0.1) -> Plan:
+    """Each other seed of the task counted as often as exp(-½(Δaltitude / bandwidth)²) says,
+    rounded to hundredths (the guesses' weighted counts)."""
+    z = _altitude(episode)
+
+    def moves(k: int) -> list[Direction]:
+        seen: list[Moves] = []
+        for s, m in sorted(segment_table().get((episode.task_id, k), {}).items()):
+            if s != episode.seed:
+                gap = (stated_altitudes()[(episode.task_id, s)] - z) / bandwidth
+                seen.extend([m] * max(1, round(100 * math.exp(-0.5 * gap * gap))))
+        vertical = guess_vertical(seen)
+        level = guess_horizontal(seen)
+        return [*vertical, *level] if vertical == [Direction.UP] else [*level, *vertical]
+
+    return _assemble(episode, moves)
 
 
 def blind(episode: Episode) -> Plan:
@@ -145,6 +186,8 @@ def majority(episode: Episode) -> Plan:
 
 PLANNERS: dict[str, Planner] = {
     "blind": blind,
+    "constant": constant,
+    "altitude_weighted": altitude_weighted,
     "altitude_rule": altitude_rule,
     "task_threshold": task_threshold,
     "majority": majority,

@@ -1,27 +1,29 @@
 """``blind``: perfect language, no vision — the strongest planner that never looks at a scene.
 
 It reads what a model without vision reads: the instruction (as the GT's ARM steps,
-``RequestMeta.arm_steps``: what a perfect reader writes), the object list, the rules and the
-altitude the user turn states, and it knows the benchmark's GT plans of the task's *other*
-seeds (leave-one-seed-out, so never the episode's own geometry). Before each ARM step it puts
-the moves that maximise the expected S_loc credit of that segment (the moves before one ARM
-step), each other seed weighted by how close its stated altitude is to this one's
-(:data:`ALTITUDE_BANDWIDTH`), so an altitude that told the vertical moves would be used:
+``RequestMeta.arm_steps``: what a perfect reader writes), the object list and the rules, and it
+knows the benchmark's GT plans of the *other* seeds (leave one seed out: no GT plan of the
+episode's own seed, of any task, is read). Before each ARM step k it puts the moves of highest
+expected S_loc credit:
 
 * one horizontal move, the direction whose expected credit (100 for the same sector, the
-  neighbour credit for the next one) over the other seeds' first horizontal moves there is
-  highest, whenever any other seed has one;
-* one ``up`` or ``down``, whichever the other seeds have more weight of, whenever any has one.
+  neighbour credit for the next one) is highest over the first horizontal moves that segment k
+  has in every task's other seeds. Pooled over tasks, because a task's sectors are drawn
+  independently per seed: its own other seeds tell nothing, and leaving one seed out of an
+  exactly balanced count would favour every direction but the episode's own;
+* one ``up`` or ``down``, whichever more of the task's other seeds have in segment k (all
+  tasks' other seeds where the task has none): a place on a stack climbs, a drop into a low
+  bin descends, whatever the scene.
 
-A predicted move with no GT partner costs nothing in S_loc, so it guesses in every segment
-where some seed moves: its ``Move_ratio`` above 1 and its ``S_loc_prec`` show the padding. A
-task with no other seed falls back to all tasks' segment k. A VLM must beat its S_loc to show
-that it uses the images.
+A predicted move with no GT partner costs nothing in S_loc, so it guesses in every segment: its
+``Move_ratio`` above 1 and its ``S_loc_prec`` show the padding. The stated start altitude is not
+read: on version 3's GT it tells nothing about the moves (weighting the other seeds by it scores
+lower). A VLM must beat its S_loc to show that it uses the images; ``python
+benchmarks/text_only_planners.py`` puts the other text-only planners beside it.
 """
 
 from __future__ import annotations
 
-import math
 from collections import defaultdict
 from collections.abc import Sequence
 from functools import cache
@@ -36,8 +38,6 @@ from vlm_bench.types.plan import HORIZONTAL_DIRECTIONS, ArmStep, Direction, UavS
 Moves = tuple[Direction, ...]
 SegmentTable = dict[tuple[str, int], dict[int, Moves]]
 """(task id, segment index) → seed → the GT's moves before that ARM step."""
-ALTITUDE_BANDWIDTH = 0.1
-"""m: a seed whose stated altitude lies this much from the episode's weighs e^-1/2 as much."""
 NEIGHBOUR_CREDIT = 40.0
 """S_loc's default credit for a neighbouring sector (``ScoringConfig.neighbour_credit``)."""
 
@@ -66,16 +66,6 @@ def segment_table() -> SegmentTable:
     return dict(table)
 
 
-@cache
-def stated_altitudes() -> dict[tuple[str, int], float]:
-    """(task id, seed) → the start altitude the user turn states (m, two decimals)."""
-    return {
-        (task.id, episode.seed): round(episode.uav_start.pos[2], 2)
-        for task in all_tasks()
-        for episode in load_materialised(task).episodes
-    }
-
-
 def _credit(guess: Direction, gt: Direction) -> float:
     if guess == gt:
         return 100.0
@@ -83,33 +73,38 @@ def _credit(guess: Direction, gt: Direction) -> float:
     return NEIGHBOUR_CREDIT if min(gap, len(HORIZONTAL_DIRECTIONS) - gap) == 1 else 0.0
 
 
-def guess_moves(seen: Sequence[tuple[Moves, float]]) -> list[Direction]:
-    """The moves of one segment that maximise the expected credit, from the moves other seeds
-    have there, each with its weight (see module doc)."""
-    level: dict[Direction, float] = defaultdict(float)
-    climb: dict[Direction, float] = defaultdict(float)
-    for other, weight in seen:
-        first = next((d for d in other if d.is_horizontal), None)
+def guess_horizontal(seen: Sequence[Moves]) -> list[Direction]:
+    """The horizontal move of highest expected credit over the first horizontal moves of
+    ``seen`` (ties to the earlier direction); none when no segment of ``seen`` has one."""
+    level: dict[Direction, int] = defaultdict(int)
+    for moves in seen:
+        first = next((d for d in moves if d.is_horizontal), None)
         if first is not None:
-            level[first] += weight
-        for d in {d for d in other if not d.is_horizontal}:
-            climb[d] += weight
-    moves: list[Direction] = []
-    if level:  # ties go to the earlier direction
-        expected = {
-            g: sum(w * _credit(g, d) for d, w in level.items()) for g in HORIZONTAL_DIRECTIONS
-        }
-        moves.append(max(HORIZONTAL_DIRECTIONS, key=lambda g: expected[g]))
-    if climb:
-        vertical = max((Direction.UP, Direction.DOWN), key=lambda d: climb[d])
-        moves.insert(0 if vertical is Direction.UP else len(moves), vertical)
-    return moves
+            level[first] += 1
+    if not level:
+        return []
+    expected = {g: sum(n * _credit(g, d) for d, n in level.items()) for g in HORIZONTAL_DIRECTIONS}
+    return [max(HORIZONTAL_DIRECTIONS, key=lambda g: expected[g])]
 
 
-def _weight(altitude: float | None, other: float | None) -> float:
-    if altitude is None or other is None:
-        return 1.0
-    return math.exp(-0.5 * ((altitude - other) / ALTITUDE_BANDWIDTH) ** 2) + 1e-9
+def guess_vertical(seen: Sequence[Moves]) -> list[Direction]:
+    """``up`` or ``down``, whichever more segments of ``seen`` have (``up`` on a tie); none
+    when no segment has either."""
+    counts = {d: sum(d in moves for moves in seen) for d in (Direction.UP, Direction.DOWN)}
+    if not any(counts.values()):
+        return []
+    return [max((Direction.UP, Direction.DOWN), key=lambda d: counts[d])]
+
+
+def _other_seeds(table: SegmentTable, k: int, seed: int | None, task_id: str | None) -> list[Moves]:
+    """Segment k's moves in the seeds other than ``seed``: of ``task_id``, or of every task."""
+    return [
+        moves
+        for (task, j), by_seed in sorted(table.items())
+        if j == k and task_id in (None, task)
+        for s, moves in sorted(by_seed.items())
+        if s != seed
+    ]
 
 
 def blind_plan(
@@ -117,24 +112,17 @@ def blind_plan(
 ) -> list[UavStep | ArmStep]:
     """The blind plan of one episode (see module doc); ``first``: the GT index of the first
     of ``arm_steps`` (a replan's rest)."""
-    table, altitudes = segment_table(), stated_altitudes()
-    altitude = altitudes.get((task_id, seed)) if seed is not None else None
+    table = segment_table()
     plan: list[UavStep | ArmStep] = []
     for k, step in enumerate(arm_steps, start=first):
-        by_seed = table.get((task_id, k), {})
-        seen = [
-            (m, _weight(altitude, altitudes.get((task_id, s))))
-            for s, m in sorted(by_seed.items())
-            if s != seed
-        ]
-        if not seen:
-            seen = [
-                (m, 1.0)
-                for (_, j), seeds in sorted(table.items())
-                if j == k
-                for m in seeds.values()
-            ]
-        plan.extend(UavStep(direction=d) for d in guess_moves(seen))
+        pooled = _other_seeds(table, k, seed, None)
+        own = _other_seeds(table, k, seed, task_id)
+        vertical = guess_vertical(own if any(own) else pooled)
+        level = guess_horizontal(pooled)
+        if vertical == [Direction.UP]:
+            plan.extend(UavStep(direction=d) for d in (*vertical, *level))
+        else:
+            plan.extend(UavStep(direction=d) for d in (*level, *vertical))
         plan.append(step)
     return plan
 
