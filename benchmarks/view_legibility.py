@@ -11,10 +11,11 @@ plan's ARM steps name, the owners of the parts they name, every movable non-supp
 the shorter side of its pixel bounding box. Episodes are judged by
 :func:`vlm_bench.sim.footprint.legibility_failures` (the criterion is in that module's
 docstring). It also counts, with :mod:`vlm_bench.sim.view_checks`, the supports under task
-objects that show their top and full height in a view, and the label tags that cover a task
-object's pixels. Episodes are the materialised GT's. Prints the minima per view, the smallest
-objects by kind, the worst ten episodes and the wall time; ``--out`` writes one JSON line per
-episode as it finishes.
+objects that show their top in a view, those that show their top and full height, and the
+label tags that cover a task object's pixels; it exits 1 when an episode fails the criterion,
+a support's top is shown in no view, or a tag covers a task object. Episodes are the
+materialised GT's. Prints the minima per view, the smallest objects by kind, the worst ten
+episodes and the wall time; ``--out`` writes one JSON line per episode as it finishes.
 """
 
 from __future__ import annotations
@@ -46,7 +47,12 @@ def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     from vlm_bench.sim.footprint import measure_scene_legibility
     from vlm_bench.sim.render import SnapshotRenderer
     from vlm_bench.sim.scene import build_scene
-    from vlm_bench.sim.view_checks import label_overlaps, support_visibility
+    from vlm_bench.sim.view_checks import (
+        label_overlaps,
+        support_tops,
+        support_visibility,
+        view_segmentations,
+    )
 
     if _RENDERER is None:
         _RENDERER = SnapshotRenderer(shadows=False)
@@ -56,8 +62,10 @@ def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     scene = build_scene(episode)
     measured = measure_scene_legibility(scene, _RENDERER, size)
     row = measured.to_json()
-    row["supports"] = support_visibility(scene, _RENDERER, size)
-    row["label_overlaps"] = label_overlaps(scene, _RENDERER, size)
+    segs = view_segmentations(scene, _RENDERER, size)
+    row["support_tops"] = support_tops(scene, _RENDERER, size, segs=segs)
+    row["supports"] = support_visibility(scene, _RENDERER, size, segs=segs)
+    row["label_overlaps"] = label_overlaps(scene, _RENDERER, size, segs=segs)
     kinds = {o.id: o.kind for o in episode.objects}
     row["suite"] = episode.suite.value
     row["environment"] = episode.environment
@@ -120,6 +128,14 @@ def summarise(rows: list[dict[str, Any]], wall: float, workers: int) -> None:
     print("min object px by kind (overhead, side, best of two):")
     for kind, (over, side, best) in sorted(by_kind.items(), key=lambda kv: kv[1][2]):
         print(f"  {kind:16} {over:4d} {side:4d} {best:4d}")
+    tops = [any(views.values()) for r in rows for views in r["support_tops"].values()]
+    hidden = [r for r in rows if not all(any(v.values()) for v in r["support_tops"].values())]
+    print(
+        f"height supports showing their top in a view: {sum(tops)} of {len(tops)}; "
+        f"episodes with every top shown: {len(rows) - len(hidden)} of {len(rows)}"
+    )
+    for row in hidden[:10]:
+        print(f"  {row['task']} seed {row['seed']}: {row['support_tops']}")
     supports = [any(views.values()) for r in rows for views in r["supports"].values()]
     blind_eps = [r for r in rows if not all(any(v.values()) for v in r["supports"].values())]
     print(
@@ -175,7 +191,8 @@ def main() -> None:
         if sink is not None:
             sink.close()
     summarise(rows, time.perf_counter() - t0, args.workers)
-    sys.exit(1 if any(r["failures"] or r["label_overlaps"] for r in rows) else 0)
+    tops_hidden = any(not any(v.values()) for r in rows for v in r["support_tops"].values())
+    sys.exit(1 if tops_hidden or any(r["failures"] or r["label_overlaps"] for r in rows) else 0)
 
 
 if __name__ == "__main__":

@@ -41,3 +41,22 @@ def test_supports_under_task_objects_are_checked_in_both_views(renderer: Snapsho
     seen = support_visibility(build_scene(episode), renderer)
     assert set(seen) == set(supports)
     assert all(set(views) == {"overhead", "side"} for views in seen.values())
+
+
+def test_a_support_top_is_seen_unless_the_view_is_cut_or_covered(
+    renderer: SnapshotRenderer,
+) -> None:
+    import numpy as np
+
+    from vlm_bench.sim import view_checks
+
+    episode = get_episode("pick_left_cup_red", 0)
+    scene = build_scene(episode)
+    segs = view_checks.view_segmentations(scene, renderer)
+    tops = view_checks.support_tops(scene, renderer, segs=segs)
+    assert set(tops) == set(height_supports(episode)) and any(tops["table"].values())
+    # The same views with every pixel turned to background: no top is seen.
+    empty = {view: np.full_like(seg, -1) for view, seg in segs.items()}
+    assert not any(
+        any(v.values()) for v in view_checks.support_tops(scene, renderer, segs=empty).values()
+    )

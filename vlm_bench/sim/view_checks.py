@@ -4,10 +4,17 @@ Both work on segmentation renders
 (:meth:`~vlm_bench.sim.render.SnapshotRenderer.render_segmentation`) of the scene's
 ``overhead`` and ``side`` cameras, as the model is shown them:
 
-* :func:`support_visibility`: whether each *height support* (a support under a task object, or
-  one a place step puts an object on) shows its top and its full height in a view: all eight
-  corners of its box project inside the image, and its seen pixels span at least
-  :data:`MIN_HEIGHT_SHARE` of the rows its box spans there (not hidden behind other things).
+* :func:`support_tops`: whether each *height support* (a support under a task object, or one
+  a place step puts an object on) shows its top in a view: one whole edge of its box's top face
+  (two neighbouring top corners) projects inside the image, so the view shows where the
+  surface ends, and at least :data:`MIN_TOP_SHARE` of the top face's pixels in the image (at
+  least :data:`MIN_TOP_PIXELS` of them) show the support or what stands on it, not something
+  in front of it. A table is wider than the tight framing of the work area, so its far corners
+  may lie out of frame.
+* :func:`support_visibility`: whether each height support shows its top and its full height in
+  a view: all eight corners of its box project inside the image, and its seen pixels span at
+  least :data:`MIN_HEIGHT_SHARE` of the rows its box spans there (not hidden behind other
+  things).
 * :func:`label_overlaps`: the set-of-marks tags (placed as
   :func:`~vlm_bench.sim.snapshot_render.label_tags` and :func:`~vlm_bench.sim.labels.tag_layout`
   place them) that cover a task object's seen pixels.
@@ -18,6 +25,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from PIL import Image, ImageDraw
 
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.sim.cameras import plan_references, task_objects
@@ -31,6 +39,10 @@ from vlm_bench.types.episode import Episode
 
 MIN_HEIGHT_SHARE = 0.8
 """Least share of a support's projected rows that its seen pixels must span."""
+MIN_TOP_SHARE = 0.5
+"""Least share of a support's projected top face that it, or what stands on it, must show."""
+MIN_TOP_PIXELS = 200
+"""Least area of a support's top face in the image (px at the checked size)."""
 
 
 def height_supports(episode: Episode) -> tuple[str, ...]:
@@ -51,12 +63,62 @@ def height_supports(episode: Episode) -> tuple[str, ...]:
     return tuple(o.id for o in episode.objects if o.id in wanted)
 
 
-def _renders(
-    scene: Scene, renderer: SnapshotRenderer, size: int, views: Sequence[str]
+def view_segmentations(
+    scene: Scene,
+    renderer: SnapshotRenderer,
+    size: int = DEFAULT_IMAGE_SIZE,
+    views: Sequence[str] = THIRD_PERSON_CAMERAS,
 ) -> dict[str, GeomIdImage]:
+    """The segmentation render of each of ``views``, for the checks below to share."""
     return {
         view: renderer.render_segmentation(scene.model, scene.data, view, size) for view in views
     }
+
+
+def _standing_on(episode: Episode, support: str) -> list[str]:
+    """``support`` and every object resting on it, directly or on something that does."""
+    out = [support]
+    for obj in episode.objects:  # scene order: a thing comes after what it stands on
+        if obj.on in out:
+            out.append(obj.id)
+    return out
+
+
+def _top_seen(seg: GeomIdImage, quad: np.ndarray, corners_in: np.ndarray, geoms: list[int]) -> bool:
+    """Whether the projected top face ``quad`` (4 × 2, round the face) is seen (module doc)."""
+    if not any(corners_in[i] and corners_in[(i + 1) % 4] for i in range(4)):
+        return False
+    height, width = seg.shape
+    mask = Image.new("1", (width, height), 0)
+    ImageDraw.Draw(mask).polygon([(float(u), float(v)) for u, v in quad], fill=1)
+    inside = np.asarray(mask, dtype=bool)
+    total = int(inside.sum())
+    shown = int(np.isin(seg[inside], geoms).sum())
+    return total >= MIN_TOP_PIXELS and shown >= MIN_TOP_SHARE * total
+
+
+def support_tops(
+    scene: Scene,
+    renderer: SnapshotRenderer,
+    size: int = DEFAULT_IMAGE_SIZE,
+    views: Sequence[str] = THIRD_PERSON_CAMERAS,
+    segs: dict[str, GeomIdImage] | None = None,
+) -> dict[str, dict[str, bool]]:
+    """For each height support (:func:`height_supports`), whether each view shows its top
+    (module doc)."""
+    segs = segs or view_segmentations(scene, renderer, size, views)
+    by_id = {o.id: o for o in scene.episode.objects}
+    out: dict[str, dict[str, bool]] = {}
+    for sid in height_supports(scene.episode):
+        geoms = [
+            g for oid in _standing_on(scene.episode, sid) for g in subtree_geoms(scene.model, oid)
+        ]
+        top = box_corners(by_id[sid])[[1, 3, 7, 5]]  # the z = top corners, round the face
+        out[sid] = {}
+        for view in views:
+            pix, inside = project_points(scene.model, scene.data, view, top, size, size)
+            out[sid][view] = _top_seen(segs[view], pix, inside, geoms)
+    return out
 
 
 def support_visibility(
@@ -68,7 +130,7 @@ def support_visibility(
 ) -> dict[str, dict[str, bool]]:
     """For each height support (:func:`height_supports`), whether each view shows its top and
     full height (module doc)."""
-    segs = segs or _renders(scene, renderer, size, views)
+    segs = segs or view_segmentations(scene, renderer, size, views)
     by_id = {o.id: o for o in scene.episode.objects}
     out: dict[str, dict[str, bool]] = {}
     for sid in height_supports(scene.episode):
@@ -94,7 +156,7 @@ def label_overlaps(
 ) -> list[tuple[str, str, str, int]]:
     """``(view, tag text, task object, pixels)`` for every tag that covers seen pixels of a
     task object (empty when no tag does)."""
-    segs = segs or _renders(scene, renderer, size, views)
+    segs = segs or view_segmentations(scene, renderer, size, views)
     objects = {oid: subtree_geoms(scene.model, oid) for oid in task_objects(scene.episode)}
     out = []
     for view in views:
