@@ -1,13 +1,13 @@
 """Rendered checks of what the third-person views let a model read: table heights and labels.
 
-Both work on segmentation renders
+All three work on segmentation renders
 (:meth:`~vlm_bench.sim.render.SnapshotRenderer.render_segmentation`) of the scene's
 ``overhead`` and ``side`` cameras, as the model is shown them:
 
 * :func:`support_tops`: whether each *height support* (a support under a task object, or one
-  a place step puts an object on) shows its top in a view: one whole edge of its box's top face
-  (two neighbouring top corners) projects inside the image, so the view shows where the
-  surface ends, and at least :data:`MIN_TOP_SHARE` of the top face's pixels in the image (at
+  a place step puts an object on) shows its top in a view: a corner of its box's top face
+  projects inside the image, so the view shows where the surface ends and its edge drops, and
+  at least :data:`MIN_TOP_SHARE` of the top face's pixels in the image (at
   least :data:`MIN_TOP_PIXELS` of them) show the support or what stands on it, not something
   in front of it. A table is wider than the tight framing of the work area, so its far corners
   may lie out of frame.
@@ -86,7 +86,7 @@ def _standing_on(episode: Episode, support: str) -> list[str]:
 
 def _top_seen(seg: GeomIdImage, quad: np.ndarray, corners_in: np.ndarray, geoms: list[int]) -> bool:
     """Whether the projected top face ``quad`` (4 × 2, round the face) is seen (module doc)."""
-    if not any(corners_in[i] and corners_in[(i + 1) % 4] for i in range(4)):
+    if not corners_in.any():
         return False
     height, width = seg.shape
     mask = Image.new("1", (width, height), 0)
