@@ -41,8 +41,10 @@ MIN_HEIGHT_SHARE = 0.8
 """Least share of a support's projected rows that its seen pixels must span."""
 MIN_TOP_SHARE = 0.5
 """Least share of a support's projected top face that it, or what stands on it, must show."""
-MIN_TOP_PIXELS = 200
-"""Least area of a support's top face in the image (px at the checked size)."""
+MIN_TOP_PIXELS = 50
+"""Least area of a support's top face in the image (px at the checked size): about the square
+of the legibility bound of the smallest objects (6-7 px), so a lidar that receives a camera
+module counts when its top shows whole."""
 
 
 def height_supports(episode: Episode) -> tuple[str, ...]:
