@@ -18,9 +18,10 @@ from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor.perturbations import parse_perturb
-from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
+from vlm_bench.rounds.state import StateView
+from vlm_bench.runner.evaluate import EXECUTION_LOST, EpisodeInfo, scored_record
 from vlm_bench.runner.execution_jobs import execute_job
-from vlm_bench.runner.executions import EXECUTION_LOST, Executions
+from vlm_bench.runner.executions import Executions
 from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED
 from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
@@ -197,15 +198,18 @@ def _hop_record() -> tuple[Episode, EpisodeRecord]:
 def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
     episode, record = _hop_record()
     pool = _FlakyPool(breaks=1)
-    loops = Executions(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
+    config = _config(loop="closed", max_rounds=1, resolution=16)
+    shown = StateView(config.views, config.resolution, config.labels)
+    loops = Executions(pool, config.executor_config(), config.loop_config(), shown=shown)  # type: ignore[arg-type]
     assert loops.submit(episode, record) is None
     assert list(loops.drain()) == []  # round 0 failed its goals: waiting for the replan
-    assert pool.restarts == 1 and len(loops.requests()) == 1
+    assert pool.restarts == 1 and loops.waiting == 1
 
 
 def test_an_episode_whose_worker_keeps_dying_is_lost_and_retried_on_resume() -> None:
     episode, record = _hop_record()
-    dying = Executions(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
+    loop = _config(loop="closed")
+    dying = Executions(_FlakyPool(breaks=MAX_ATTEMPTS), loop.executor_config(), loop.loop_config())  # type: ignore[arg-type]
     dying.submit(episode, record)
     (out,) = list(dying.drain())
     assert out.status == "error" and out.loop is None  # not a result: a resume runs it again
@@ -231,7 +235,8 @@ class _HungPool(_FlakyPool):
 def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
     episode, record = _hop_record()
     pool = _HungPool()
-    loops = Executions(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
+    loop = _config(loop="closed")
+    loops = Executions(pool, loop.executor_config(), loop.loop_config(), stall_s=0.3)  # type: ignore[arg-type]
     loops.submit(episode, record)
     start = time.monotonic()
     out: list[EpisodeRecord] = []

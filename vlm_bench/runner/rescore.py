@@ -89,7 +89,7 @@ def rescore_run(
         done: dict[str, EpisodeRecord] = {}
         options = execution or ExecutionOptions()
         executions = (
-            Executions(make_pool(options), config, stall_s=options.stall_s)
+            Executions(make_pool(options), config.executor_config(), stall_s=options.stall_s)
             if config.execute
             else None
         )
