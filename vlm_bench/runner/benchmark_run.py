@@ -3,19 +3,17 @@ episodes, close."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 from vlm_bench.backends import Backend
 from vlm_bench.runner.answers import ModelAnswers
 from vlm_bench.runner.cached_snapshots import SnapshotSource
-from vlm_bench.runner.executions import make_pool
+from vlm_bench.runner.execution_pools import make_pool
 from vlm_bench.runner.interrupt import deferred_interrupt
 from vlm_bench.runner.pipeline import EpisodePipeline, PipelineStats
 from vlm_bench.runner.progress import RunProgress
-from vlm_bench.runner.run_plan import RunPlan, plan_run
+from vlm_bench.runner.run_plan import plan_run
 from vlm_bench.sim.mujoco_log import route_mujoco_log
 from vlm_bench.storage import RunStore, SnapshotCache, default_snapshot_cache
 from vlm_bench.types.execution import ExecutionOptions
@@ -32,17 +30,6 @@ class RunOutcome:
     records: tuple[EpisodeRecord, ...]
     """The latest record of every episode of the folder, in run order."""
     stats: PipelineStats
-
-
-@contextmanager
-def _snapshot_source(plan: RunPlan, cache_dir: Path | None) -> Iterator[SnapshotSource]:
-    cache = SnapshotCache(cache_dir) if cache_dir is not None else None
-    shown = plan.shown
-    source = SnapshotSource(shown.views, shown.size, shown.labels, cache)
-    try:
-        yield source
-    finally:
-        source.close()
 
 
 def run_benchmark(
@@ -84,18 +71,20 @@ def run_benchmark(
     cache_dir = (
         default_snapshot_cache(run_dir) if snapshot_cache is True else snapshot_cache or None
     )
+    cache = SnapshotCache(cache_dir) if cache_dir is not None else None
+    shown = plan.shown
     options = execution or ExecutionOptions()
     with (
         RunStore.create_or_resume(run_dir, config, plan.manifest) as store,
-        _snapshot_source(plan, cache_dir) as snapshots,
-        RunProgress(len(plan.episodes), store.paths.run_id, enabled=progress) as shown,
+        SnapshotSource(shown.views, shown.size, shown.labels, cache) as snapshots,
+        RunProgress(len(plan.episodes), store.paths.run_id, enabled=progress) as bar,
         deferred_interrupt() as stop,
     ):
         answers = ModelAnswers(config.model, config.backend_args, plan.generation, store, backend)
         pool = make_pool(options) if plan.executor is not None else None
         try:
             pipeline = EpisodePipeline(
-                plan, store, answers, snapshots, shown, stop, pool, options.stall_s
+                plan, store, answers, snapshots, bar, stop, pool, options.stall_s
             )
             stats = pipeline.run()
         finally:

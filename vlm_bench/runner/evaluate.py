@@ -94,25 +94,6 @@ def error_record(
     )
 
 
-def replan_error_record(first: EpisodeRecord, round_index: int, answer: Answer) -> EpisodeRecord:
-    """The ``error`` record of an episode whose replan (round ``round_index``) the backend failed
-    to answer: round 0's record with the error (a resume runs it again from round 0, its answers
-    so far from the cache)."""
-    return first.model_copy(
-        update={
-            "raw_output": "",
-            "parse": None,
-            "plan": None,
-            "scores": None,
-            "execution": None,
-            "error_tags": ("backend_error",),
-            "backend_error": f"round {round_index}: {answer.error or ''}",
-            "latency_s": answer.latency_s,
-            "status": "error",
-        }
-    )
-
-
 def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:
     """``record`` as an ``error`` record whose execution the infrastructure lost: a resume scores
     its cached answer again and executes it."""

@@ -26,9 +26,9 @@ from vlm_bench.rounds.machine import Done, Execute, RoundMachine, Step
 from vlm_bench.rounds.replan_prompt import Conversation
 from vlm_bench.rounds.state import ReplanRequest, StateView
 from vlm_bench.runner.answers import Answer
-from vlm_bench.runner.evaluate import lost_record, replan_error_record
+from vlm_bench.runner.evaluate import lost_record
 from vlm_bench.runner.execution_jobs import Executed, ExecutionJob
-from vlm_bench.runner.execution_pools import ExecutionPool, InlinePool, ProcessPool, default_workers
+from vlm_bench.runner.execution_pools import ExecutionPool
 from vlm_bench.runner.pending_jobs import PendingJobs
 from vlm_bench.runner.plan_executor import record_plan
 from vlm_bench.types.closed_loop import HistoryMode, LoopConfig
@@ -39,20 +39,6 @@ from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.records import EpisodeRecord
 from vlm_bench.types.rounds import RoundRecord
 from vlm_bench.types.task import InstructionVariant
-
-
-def make_pool(options: ExecutionOptions) -> ExecutionPool:
-    """The pool ``options`` ask for: inline for 0 workers, else worker processes (default:
-    one per core), or Ray tasks on a cluster."""
-    workers = default_workers() if options.workers is None else options.workers
-    if options.backend == "ray":
-        from vlm_bench.runner.executions_ray import RayPool
-
-        pool: ExecutionPool = RayPool(max(1, workers), options.ray_address, options.stall_s)
-        return pool
-    if workers <= 0:
-        return InlinePool()
-    return ProcessPool(workers)
 
 
 @dataclass
@@ -205,9 +191,7 @@ class Executions:
             raise RuntimeError("a closed loop's executions need ask_model")
         for ask, answer in zip(asks, self._ask_model(asks), strict=True):
             if answer.response is None:
-                live = self._live.pop(ask.key)
-                self._changed()
-                yield replan_error_record(live.first, len(live.rounds) + 1, answer)
+                yield self._failed(ask.key, answer.error or "", answer.latency_s)
                 continue
             record = self._answered(ask.key, answer)
             if record is not None:
@@ -273,6 +257,24 @@ class Executions:
             return self._finish(live, action)
         self._send(key, live, action)
         return None
+
+    def _failed(self, key: str, error: str, latency_s: float) -> EpisodeRecord:
+        """The error record of an episode whose replan the backend failed to answer."""
+        live = self._live.pop(key)
+        self._changed()
+        return live.first.model_copy(
+            update={
+                "raw_output": "",
+                "parse": None,
+                "plan": None,
+                "scores": None,
+                "execution": None,
+                "error_tags": ("backend_error",),
+                "backend_error": f"round {len(live.rounds) + 1}: {error}",
+                "latency_s": latency_s,
+                "status": "error",
+            }
+        )
 
     def _send(self, key: str, live: _Live, action: Execute) -> None:
         live.plans.append(action.steps)

@@ -130,33 +130,59 @@ class EpisodePipeline:
         self._episode: Episode | None = None
 
     def run(self) -> PipelineStats:
-        """Evaluate every episode of the plan that has no ok record yet."""
+        """Evaluate every episode of the plan that has no ok record yet; each record is written
+        as its episode ends."""
         refs = self.plan.episodes
         pending = [r for r in refs if not self.store.is_done(r.key)]
         self.stats.total = len(refs)
         self.stats.skipped = len(refs) - len(pending)
         self.progress.skipped(self.stats.skipped)
-        executions = self.executions
         try:
-            for batch in _chunks(pending, self.plan.generation.batch_size):
-                self.stop.check()
-                prepared = [self._prepare(ref) for ref in batch]
-                answers = self.answers.answer([p.question for p in prepared])
-                for p, answer in zip(prepared, answers, strict=True):
-                    self._score(p, answer)
-                self._write_executed(block=False)
-            while executions is not None and executions.in_flight:
-                self.stop.check()
-                self._write_executed(block=True)  # waits at most STOP_POLL_S
+            for record in self._records(pending):
+                self.store.append_record(record)
+                self.progress.written(1)
         except BaseException:
-            if executions is not None:
-                executions.close(cancel=True)
+            if self.executions is not None:
+                self.executions.close(cancel=True)
             raise
         finally:
             self._count()
-        if executions is not None:
-            executions.close()
+        if self.executions is not None:
+            self.executions.close()
         return self.stats
+
+    def _records(self, pending: Sequence[EpisodeRef]) -> Iterator[EpisodeRecord]:
+        """The records of the episodes as they end: a batch's round 0 (those not executed), and,
+        between batches and after the last, those whose rounds ended."""
+        executions = self.executions
+        for batch in _chunks(pending, self.plan.generation.batch_size):
+            self.stop.check()
+            yield from self._first_round(batch)
+            if executions is not None:
+                yield from executions.collect(block=False, timeout=STOP_POLL_S)
+                yield from executions.replans()
+        while executions is not None and executions.in_flight:
+            self.stop.check()
+            yield from executions.collect(block=True, timeout=STOP_POLL_S)
+            yield from executions.replans()
+
+    def _first_round(self, batch: Sequence[EpisodeRef]) -> Iterator[EpisodeRecord]:
+        """Answer and score a batch's round 0; yields the records of the episodes that end with
+        it (the others are sent to execute)."""
+        prepared = [self._prepare(ref) for ref in batch]
+        answers = self.answers.answer([p.question for p in prepared])
+        for p, answer in zip(prepared, answers, strict=True):
+            record = answered_record(p.info, p.episode, answer, self.plan.config.scoring)
+            self.progress.generated(1)
+            if record.ok:
+                self.stats.scored += 1
+            if record.ok and self.executions is not None:
+                self.stop.check()
+                finished = self.executions.submit(p.episode, record, p.question.request)
+                if finished is None:
+                    continue  # written when its execution finishes
+                record = finished
+            yield record
 
     def ask_model(self, asks: Sequence[ReplanAsk]) -> Iterator[Answer]:
         """Answer replans a generation batch at a time (the stop flag read before each)."""
@@ -197,35 +223,6 @@ class EpisodePipeline:
             first_target_visible=first_target_visible(episode),
         )
         return _Prepared(episode, info, Question(ref.key, prompt.prompt_hash, request))
-
-    def _score(self, p: _Prepared, answer: Answer) -> None:
-        """Write round 0's record, or send its plan to execute (written when it finishes)."""
-        record = answered_record(p.info, p.episode, answer, self.plan.config.scoring)
-        self.progress.generated(1)
-        if record.ok:
-            self.stats.scored += 1
-            if self.executions is not None:
-                self.stop.check()
-                finished = self.executions.submit(p.episode, record, p.question.request)
-                if finished is None:
-                    return  # written when its execution finishes
-                record = finished
-        self._write(record)
-
-    def _write_executed(self, block: bool) -> None:
-        """Write the records of episodes that ended (``block``: wait up to :data:`STOP_POLL_S`
-        for an execution), then ask for the replans episodes wait for and write those that
-        ended."""
-        if self.executions is None:
-            return
-        for record in self.executions.collect(block=block, timeout=STOP_POLL_S):
-            self._write(record)
-        for record in self.executions.replans():
-            self._write(record)
-
-    def _write(self, record: EpisodeRecord) -> None:
-        self.store.append_record(record)
-        self.progress.written(1)
 
     def _count(self) -> None:
         """Copy the answers' and the executions' counts into the stats."""
