@@ -67,7 +67,7 @@ def _config(**extra: object) -> RunConfig:
         "resolution": 32,
         **extra,
     }
-    return RunConfig(**fields)  # type: ignore[arg-type]
+    return RunConfig(**fields)
 
 
 def _round0(record: EpisodeRecord) -> dict[str, object]:
@@ -248,3 +248,54 @@ def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> N
         lost.backend_error or ""
     )
     assert pool.abandoned == 1 and loops.in_flight == 0
+
+
+def test_the_pool_driver_asks_the_model_only_through_the_function_it_is_given() -> None:
+    """A replan reaches the model through ``ask_model`` alone: its answer is executed (a
+    hop that does not complete the task, then an empty plan that ends the episode) and a
+    failed one ends the episode as an error record naming the round."""
+    from vlm_bench.runner.answers import Answer, Question
+    from vlm_bench.runner.execution_pools import InlinePool
+    from vlm_bench.runner.executions import ReplanAsk
+
+    def request(key: str) -> GenerationRequest:
+        return GenerationRequest(id=key, system="", user=())
+
+    asked: list[ReplanAsk] = []
+    answers = iter([HOP, "[]"])
+
+    def ask_model(asks: Sequence[ReplanAsk]) -> list[Answer]:
+        asked.extend(asks)
+        out = []
+        for a in asks:
+            question = Question(a.key, f"r{a.replan.round}", request(a.key))
+            text = next(answers)
+            out.append(Answer(question, CachedResponse(key=a.key, prompt_hash="x", text=text)))
+        return out
+
+    config = _config(loop="closed", max_rounds=3)
+    episode, record = _hop_record()
+    loops = Executions(
+        InlinePool(), config.executor_config(), config.loop_config(), ask_model=ask_model
+    )
+    assert loops.submit(episode, record) is None
+    assert loops.collect() == [] and loops.waiting == 1  # round 0 hopped: a replan is due
+    assert list(loops.replans()) == []  # round 1 hops again
+    assert loops.collect() == [] and loops.waiting == 1
+    (done,) = loops.replans()  # round 2 answers no plan
+    assert [a.replan.round for a in asked] == [1, 2]
+    assert done.loop is not None and done.loop.end == "no_plan" and done.loop.rounds_used == 3
+    assert [r.prompt_hash for r in done.rounds or ()] == ["r1", "r2"]
+
+    def failing(asks: Sequence[ReplanAsk]) -> list[Answer]:
+        question = Question(asks[0].key, "h1", request(asks[0].key))
+        return [Answer(question, None, error="boom", latency_s=0.5)]
+
+    loops = Executions(
+        InlinePool(), config.executor_config(), config.loop_config(), ask_model=failing
+    )
+    loops.submit(episode, record)
+    loops.collect()
+    (failed,) = loops.replans()
+    assert failed.status == "error" and failed.backend_error == "round 1: boom"
+    assert failed.latency_s == 0.5 and loops.in_flight == 0
