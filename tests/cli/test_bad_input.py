@@ -180,17 +180,18 @@ def test_a_missing_extra_is_reported_before_the_folder(
 def test_a_model_that_fails_to_load_is_one_line_and_leaves_no_folder(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import vlm_bench.runner.benchmark_run as run_module
+    import vlm_bench.runner.answers as answers_module
+    import vlm_bench.runner.run_plan as plan_module
 
     folder = tmp_path / "model"
     folder.mkdir()
     (folder / "config.json").write_text("{}")
-    monkeypatch.setattr(run_module, "check_backend", lambda *a, **k: _hf_check(folder))
+    monkeypatch.setattr(plan_module, "check_backend", lambda *a, **k: _hf_check(folder))
 
     def broken_loader(model: str, args: object) -> Backend:
         raise OSError(f"Unable to load weights from {model}\nsecond line\nthird line")
 
-    monkeypatch.setattr(run_module, "resolve_backend", broken_loader)
+    monkeypatch.setattr(answers_module, "resolve_backend", broken_loader)
     out = tmp_path / "run"
     code, err = _main(capsys, *_run(out, model=("--model", str(folder))))
     _one_line_error(code, err, "cannot load model", "OSError", "Unable to load weights")

@@ -18,9 +18,10 @@ from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.executor.perturbations import parse_perturb
-from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
+from vlm_bench.rounds.state import StateView
+from vlm_bench.runner.evaluate import EXECUTION_LOST, EpisodeInfo, scored_record
 from vlm_bench.runner.execution_jobs import execute_job
-from vlm_bench.runner.executions import EXECUTION_LOST, Executions
+from vlm_bench.runner.executions import Executions
 from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED
 from vlm_bench.types.closed_loop import PerturbConfig
 from vlm_bench.types.episode import Episode
@@ -66,7 +67,7 @@ def _config(**extra: object) -> RunConfig:
         "resolution": 32,
         **extra,
     }
-    return RunConfig(**fields)  # type: ignore[arg-type]
+    return RunConfig(**fields)
 
 
 def _round0(record: EpisodeRecord) -> dict[str, object]:
@@ -197,15 +198,18 @@ def _hop_record() -> tuple[Episode, EpisodeRecord]:
 def test_a_dead_worker_is_replaced_and_the_round_sent_again() -> None:
     episode, record = _hop_record()
     pool = _FlakyPool(breaks=1)
-    loops = Executions(pool, _config(loop="closed", max_rounds=1, resolution=16))  # type: ignore[arg-type]
+    config = _config(loop="closed", max_rounds=1, resolution=16)
+    shown = StateView(config.views, config.resolution, config.labels)
+    loops = Executions(pool, config.executor_config(), config.loop_config(), shown=shown)  # type: ignore[arg-type]
     assert loops.submit(episode, record) is None
     assert list(loops.drain()) == []  # round 0 failed its goals: waiting for the replan
-    assert pool.restarts == 1 and len(loops.requests()) == 1
+    assert pool.restarts == 1 and loops.waiting == 1
 
 
 def test_an_episode_whose_worker_keeps_dying_is_lost_and_retried_on_resume() -> None:
     episode, record = _hop_record()
-    dying = Executions(_FlakyPool(breaks=MAX_ATTEMPTS), _config(loop="closed"))  # type: ignore[arg-type]
+    loop = _config(loop="closed")
+    dying = Executions(_FlakyPool(breaks=MAX_ATTEMPTS), loop.executor_config(), loop.loop_config())  # type: ignore[arg-type]
     dying.submit(episode, record)
     (out,) = list(dying.drain())
     assert out.status == "error" and out.loop is None  # not a result: a resume runs it again
@@ -231,7 +235,8 @@ class _HungPool(_FlakyPool):
 def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> None:
     episode, record = _hop_record()
     pool = _HungPool()
-    loops = Executions(pool, _config(loop="closed"), stall_s=0.3)  # type: ignore[arg-type]
+    loop = _config(loop="closed")
+    loops = Executions(pool, loop.executor_config(), loop.loop_config(), stall_s=0.3)  # type: ignore[arg-type]
     loops.submit(episode, record)
     start = time.monotonic()
     out: list[EpisodeRecord] = []
@@ -243,3 +248,54 @@ def test_executions_that_never_finish_are_given_up_within_the_stall_bound() -> N
         lost.backend_error or ""
     )
     assert pool.abandoned == 1 and loops.in_flight == 0
+
+
+def test_the_pool_driver_asks_the_model_only_through_the_function_it_is_given() -> None:
+    """A replan reaches the model through ``ask_model`` alone: its answer is executed (a
+    hop that does not complete the task, then an empty plan that ends the episode) and a
+    failed one ends the episode as an error record naming the round."""
+    from vlm_bench.runner.answers import Answer, Question
+    from vlm_bench.runner.execution_pools import InlinePool
+    from vlm_bench.runner.executions import ReplanAsk
+
+    def request(key: str) -> GenerationRequest:
+        return GenerationRequest(id=key, system="", user=())
+
+    asked: list[ReplanAsk] = []
+    answers = iter([HOP, "[]"])
+
+    def ask_model(asks: Sequence[ReplanAsk]) -> list[Answer]:
+        asked.extend(asks)
+        out = []
+        for a in asks:
+            question = Question(a.key, f"r{a.replan.round}", request(a.key))
+            text = next(answers)
+            out.append(Answer(question, CachedResponse(key=a.key, prompt_hash="x", text=text)))
+        return out
+
+    config = _config(loop="closed", max_rounds=3)
+    episode, record = _hop_record()
+    loops = Executions(
+        InlinePool(), config.executor_config(), config.loop_config(), ask_model=ask_model
+    )
+    assert loops.submit(episode, record) is None
+    assert loops.collect() == [] and loops.waiting == 1  # round 0 hopped: a replan is due
+    assert list(loops.replans()) == []  # round 1 hops again
+    assert loops.collect() == [] and loops.waiting == 1
+    (done,) = loops.replans()  # round 2 answers no plan
+    assert [a.replan.round for a in asked] == [1, 2]
+    assert done.loop is not None and done.loop.end == "no_plan" and done.loop.rounds_used == 3
+    assert [r.prompt_hash for r in done.rounds or ()] == ["r1", "r2"]
+
+    def failing(asks: Sequence[ReplanAsk]) -> list[Answer]:
+        question = Question(asks[0].key, "h1", request(asks[0].key))
+        return [Answer(question, None, error="boom", latency_s=0.5)]
+
+    loops = Executions(
+        InlinePool(), config.executor_config(), config.loop_config(), ask_model=failing
+    )
+    loops.submit(episode, record)
+    loops.collect()
+    (failed,) = loops.replans()
+    assert failed.status == "error" and failed.backend_error == "round 1: boom"
+    assert failed.latency_s == 0.5 and loops.in_flight == 0

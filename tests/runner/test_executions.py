@@ -21,10 +21,10 @@ from rich.console import Console
 import vlm_bench
 from vlm_bench.episodes import get_episode
 from vlm_bench.rounds import StateView
-from vlm_bench.runner.evaluate import EpisodeInfo, scored_record
+from vlm_bench.runner.evaluate import EXECUTION_LOST, EpisodeInfo, scored_record
 from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
 from vlm_bench.runner.execution_pools import InlinePool, ProcessPool
-from vlm_bench.runner.executions import EXECUTION_LOST, Executions
+from vlm_bench.runner.executions import Executions
 from vlm_bench.runner.pending_jobs import MAX_ATTEMPTS, WORKER_DIED
 from vlm_bench.runner.progress import RunProgress
 from vlm_bench.storage import latest_records, read_records
@@ -48,8 +48,8 @@ if TYPE_CHECKING:
     from tests.conftest import Cli
 
 
-OPEN = RunConfig(model="oracle")
-"""An open-loop run's configuration (no gusts, no perturbations)."""
+OPEN = RunConfig(model="oracle").executor_config()
+"""An open-loop run's executor settings (no gusts, no perturbations)."""
 
 
 def _summary(executed: Executed) -> ExecutionSummary:

@@ -162,6 +162,18 @@ def card_for(model: str) -> ModelCard | None:
     return None
 
 
+def did_you_mean(model: str) -> str:
+    """``"; did you mean 'openai/x'?"`` when ``model`` is one typo from a backend, else ``""``."""
+    prefix, sep, rest = model.partition("/")
+    if sep:
+        names = [n for n in BACKENDS.names() if BACKENDS.get(n).takes_model]
+        close = difflib.get_close_matches(prefix.lower(), names, n=1, cutoff=0.7)
+        return f"; did you mean '{close[0]}/{rest}'?" if close else ""
+    names = [n for n in BACKENDS.names() if n != "hf"]
+    close = difflib.get_close_matches(model.lower(), names, n=1, cutoff=0.7)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
 def _unknown_bare_name(model: str) -> ConfigError:
     bare = [n for n in BACKENDS.names() if n not in _BUILTINS or not BACKENDS.get(n).takes_model]
     names = sorted(bare) + sorted(model_cards())

@@ -22,6 +22,7 @@ from vlm_bench.catalog.skills import skills
 from vlm_bench.errors import ConfigError, DataFileError
 from vlm_bench.types.generation import GenerationConfig, GenerationRequest, GenerationResult
 from vlm_bench.types.plan import ArmStep, Direction, UavStep, plan_to_json
+from vlm_bench.types.rounds import round_request_id
 
 
 def _answer_each(
@@ -130,12 +131,6 @@ class RandomBackend(PlannerBackend):
         if request.meta is None or not request.meta.object_ids:
             return "random: request has no meta.object_ids"
         return self.random_plan(request.id, request.meta.object_ids)
-
-
-def round_request_id(key: str, round_index: int) -> str:
-    """The request id of an episode's round: the episode key for round 0 (as in an open
-    loop), ``key#r<round>`` for a replan."""
-    return key if round_index == 0 else f"{key}#r{round_index}"
 
 
 class MockArgs(BackendArgs):

@@ -7,7 +7,6 @@ leaves nothing behind and the corrected command starts clean.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -15,10 +14,10 @@ from importlib.util import find_spec
 
 from vlm_bench.backends.backend import parse_args
 from vlm_bench.backends.backend_registry import (
-    BACKENDS,
     backend_entry,
     builtin_class,
     card_for,
+    did_you_mean,
     plugin_backend_class,
     split_model,
 )
@@ -36,18 +35,6 @@ class BackendCheck:
     """The model name that backend gets (a hub id, a path, a served name, or empty)."""
     sees_images: bool = True
     """Its answers may depend on images (:attr:`.Backend.sees_images`)."""
-
-
-def did_you_mean(model: str) -> str:
-    """``"; did you mean 'openai/x'?"`` when ``model`` is one typo from a backend, else ``""``."""
-    prefix, sep, rest = model.partition("/")
-    if sep:
-        names = [n for n in BACKENDS.names() if BACKENDS.get(n).takes_model]
-        close = difflib.get_close_matches(prefix.lower(), names, n=1, cutoff=0.7)
-        return f"; did you mean '{close[0]}/{rest}'?" if close else ""
-    names = [n for n in BACKENDS.names() if n != "hf"]
-    close = difflib.get_close_matches(model.lower(), names, n=1, cutoff=0.7)
-    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def _require_finite(backend: str, args: object) -> None:

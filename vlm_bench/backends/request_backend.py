@@ -3,9 +3,10 @@
 A subclass maps a request to one call and the call's answer to a result
 (:meth:`RequestBackend.complete`), raising :class:`RequestFailed` for a failed call. This class
 runs a batch ``concurrency`` requests at a time, retries a transient failure with exponential
-backoff, records a final failure in the request's result (never raised), times each request,
-and stops the run when every request of a batch found no server. A client error (HTTP 4xx
-other than 408 and 429) is final at once: asking again gets the same answer.
+backoff (tenacity: ``backoff_s``, doubling, at most ``backoff_max_s``), records a final failure
+in the request's result (never raised), times each request, and stops the run when every
+request of a batch found no server. A client error (HTTP 4xx other than 408 and 429) is final
+at once: asking again gets the same answer.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import ClassVar
 
 from pydantic import Field
+from tenacity import Retrying, retry_if_exception, stop_after_attempt, wait_exponential
 
 from vlm_bench.backends.backend import OPERATIONAL, Backend, BackendArgs, require_schemas
 from vlm_bench.errors import VlmBenchError
@@ -130,18 +132,17 @@ class RequestBackend(Backend):
     ) -> tuple[GenerationResult, bool]:
         """The request's result (``latency_s``: its own time, retries included), and whether it
         failed for want of a server."""
+        retrying = Retrying(
+            retry=retry_if_exception(lambda e: isinstance(e, RequestFailed) and e.transient),
+            stop=stop_after_attempt(self.args.retries + 1),
+            wait=wait_exponential(multiplier=self.args.backoff_s, max=self.args.backoff_max_s),
+            reraise=True,
+        )
         start = time.perf_counter()
-        attempt = 0
-        while True:
-            try:
-                result = self.complete(request, config)
-            except RequestFailed as failure:
-                if failure.transient and attempt < self.args.retries:
-                    delay = self.args.backoff_s * 2.0**attempt
-                    time.sleep(min(delay, self.args.backoff_max_s))
-                    attempt += 1
-                    continue
-                own = time.perf_counter() - start
-                failed = GenerationResult(id=request.id, error=failure.detail, latency_s=own)
-                return failed, failure.unreachable
-            return result.model_copy(update={"latency_s": time.perf_counter() - start}), False
+        try:
+            result = retrying(self.complete, request, config)
+        except RequestFailed as failure:
+            own = time.perf_counter() - start
+            failed = GenerationResult(id=request.id, error=failure.detail, latency_s=own)
+            return failed, failure.unreachable
+        return result.model_copy(update={"latency_s": time.perf_counter() - start}), False

@@ -19,6 +19,7 @@ from vlm_bench.executor.perturbations.gust import gust_config
 from vlm_bench.executor.perturbations.perturber import Perturber
 from vlm_bench.executor.references import StepReferences
 from vlm_bench.executor.sim_loop import SimBudgetSpent, SimLoop, SimulatorUnstable, Skill
+from vlm_bench.rules.effects import effect_of
 from vlm_bench.sim.constants import ARM_BASE_BODY
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.scene import Scene, build_scene
@@ -123,7 +124,7 @@ class PlanExecution:
             return unknown, ArmTrace(object=step.object, known=False)
         point = np.array([ref.x, ref.y, ref.z])
         base = float(np.linalg.norm(loop.data.body(ARM_BASE_BODY).xpos - point))
-        if step.skill == "place" and loop.held is not None:
+        if effect_of(step.skill).needs_held and loop.held is not None:
             loop.watch(point, point)  # the held object's centre vs where it should rest
         else:
             loop.watch(*object_bounds(loop.model, loop.data, step.object, solid_only=True))

@@ -106,7 +106,7 @@ def export_dataset(
         version = package_versions(("vlm-bench",)).get("vlm-bench", "unknown")
         card = card_text(options, features, writer.rows, writer.arrow_bytes, version, example)
         (staging / "README.md").write_text(card, encoding="utf-8")
-        _install(staging, out)
+        install_staged(staging, out)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
@@ -115,8 +115,10 @@ def export_dataset(
     return DatasetExport(out, writer.rows, shards, size)
 
 
-def _install(staging: Path, out: Path) -> None:
-    """Move the staged card and shards into ``out``, replacing an earlier export's."""
+def install_staged(staging: Path, out: Path) -> None:
+    """Move a dataset staged in ``staging`` (its ``README.md`` card and its ``data/`` shards)
+    into ``out``, replacing an earlier export's, and remove ``staging``; what else ``out``
+    holds stays."""
     out.mkdir(parents=True, exist_ok=True)
     old_data = out / DATA_FOLDER
     if old_data.is_dir():

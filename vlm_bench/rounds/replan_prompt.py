@@ -12,7 +12,6 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass, field
 
-from vlm_bench.backends.builtin import round_request_id
 from vlm_bench.parsing import plan_json_schema
 from vlm_bench.prompting import build_replan_prompt
 from vlm_bench.rounds.state import ReplanRequest
@@ -26,6 +25,7 @@ from vlm_bench.types.generation import (
     Turn,
 )
 from vlm_bench.types.prompt import PromptConfig
+from vlm_bench.types.rounds import round_request_id
 
 
 def kept_request(

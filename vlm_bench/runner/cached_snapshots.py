@@ -65,7 +65,8 @@ def snapshot_key(episode: Episode, size: int, labels: bool) -> str:
 
 
 class SnapshotSource:
-    """PNG snapshots per episode: from the cache, else rendered (one reused GL context)."""
+    """PNG snapshots per episode: from the cache, else rendered (one reused GL context, released
+    by :meth:`close` or on leaving a ``with`` block)."""
 
     def __init__(
         self,
@@ -116,6 +117,12 @@ class SnapshotSource:
             episode, views, self.size, labels=self.labels, renderer=self._renderer
         )
         return {view: to_png(images[view]) for view in views}
+
+    def __enter__(self) -> SnapshotSource:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     def close(self) -> None:
         """Release the GL context. Idempotent."""

@@ -15,7 +15,7 @@ from vlm_bench.runner.selection import EpisodeRef, select_episodes
 from vlm_bench.storage import SnapshotCache
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.generation import GenerationRequest, RequestMeta
-from vlm_bench.types.prompt import Prompt
+from vlm_bench.types.prompt import Prompt, PromptConfig
 from vlm_bench.types.run import RunConfig
 
 
@@ -31,7 +31,20 @@ def episode_request(
         images: PNG bytes by view (the views the config shows); None: not rendered, for a
             planner that reads no images.
     """
-    prompt = build_prompt(episode, images, config.prompt_config(ref.variant))
+    options = config.prompt_config(ref.variant)
+    return prompt_request(ref, episode, images, options, config.generation.constrained)
+
+
+def prompt_request(
+    ref: EpisodeRef,
+    episode: Episode,
+    images: Mapping[str, bytes] | None,
+    options: PromptConfig,
+    constrained: bool,
+) -> tuple[Prompt, GenerationRequest]:
+    """:func:`episode_request` under resolved options: ``ref.variant``'s prompt options, and
+    whether the request carries the plan's JSON schema."""
+    prompt = build_prompt(episode, images, options)
     object_ids = episode.object_ids()
     request = prompt.to_request(
         ref.key,
@@ -43,7 +56,7 @@ def episode_request(
             arm_steps=tuple(episode.arm_steps()),
             object_ids=tuple(object_ids),
         ),
-        json_schema=plan_json_schema(object_ids) if config.generation.constrained else None,
+        json_schema=plan_json_schema(object_ids) if constrained else None,
     )
     return prompt, request
 

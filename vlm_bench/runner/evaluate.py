@@ -1,4 +1,5 @@
-"""Model text → parse → plan → scores → episode record. Never raises on model output."""
+"""Model text → parse → plan → scores → episode record, and the records an episode ends with
+when its answer or its execution fails. Never raises on model output."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from vlm_bench.catalog.model_cards import answer_format_of
+from vlm_bench.runner.answers import Answer
 from vlm_bench.scoring.answer import Evaluation, evaluate_answer
 from vlm_bench.types.episode import Episode
 from vlm_bench.types.parse import AnswerFormat
@@ -13,6 +15,9 @@ from vlm_bench.types.plan import plan_to_json
 from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
 from vlm_bench.types.scores import ScoringConfig
 from vlm_bench.types.task import InstructionVariant
+
+EXECUTION_LOST = "execution lost to the infrastructure"
+"""Start of the message of a record whose execution the infrastructure lost (retried on resume)."""
 
 
 def evaluate_output(
@@ -87,3 +92,25 @@ def error_record(
         error_tags=("backend_error",),
         status="error",
     )
+
+
+def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:
+    """``record`` as an ``error`` record whose execution the infrastructure lost: a resume scores
+    its cached answer again and executes it."""
+    return record.model_copy(
+        update={
+            "status": "error",
+            "execution": None,
+            "backend_error": f"{EXECUTION_LOST} ({reason}); a resume runs it again",
+            "error_tags": ("execution_lost",),
+        }
+    )
+
+
+def answered_record(
+    info: EpisodeInfo, episode: Episode, answer: Answer, scoring: ScoringConfig
+) -> EpisodeRecord:
+    """Round 0's record: scored where the model answered, else the backend's error."""
+    if answer.response is None:
+        return error_record(info, episode, answer.error or "", answer.latency_s)
+    return scored_record(info, episode, answer.response, scoring, cached=answer.cached)

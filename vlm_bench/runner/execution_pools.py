@@ -1,6 +1,6 @@
 """Where executions run (docs/design.md#runs): the calling process, or worker processes of this
-machine (Ray tasks on a cluster: :mod:`vlm_bench.runner.executions_ray`). :func:`make_pool` in
-:mod:`vlm_bench.runner.executions` picks one from the run's options.
+machine (Ray tasks on a cluster: :mod:`vlm_bench.runner.executions_ray`). :func:`make_pool`
+picks one from the run's options.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from typing import Any, Protocol, TypeVar
 
 from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
 from vlm_bench.runner.worker_lifetime import die_with_parent
+from vlm_bench.types.execution import ExecutionOptions
 
 J = TypeVar("J")
 R = TypeVar("R")
@@ -186,3 +187,17 @@ def broken_future(future: Future[Any]) -> bool:
     if future.cancelled():
         return True
     return isinstance(future.exception(), BrokenProcessPool)
+
+
+def make_pool(options: ExecutionOptions) -> ExecutionPool:
+    """The pool ``options`` ask for: inline for 0 workers, else worker processes (default:
+    one per core), or Ray tasks on a cluster."""
+    workers = default_workers() if options.workers is None else options.workers
+    if options.backend == "ray":
+        from vlm_bench.runner.executions_ray import RayPool
+
+        pool: ExecutionPool = RayPool(max(1, workers), options.ray_address, options.stall_s)
+        return pool
+    if workers <= 0:
+        return InlinePool()
+    return ProcessPool(workers)

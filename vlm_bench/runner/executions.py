@@ -5,8 +5,9 @@ round machine (:mod:`vlm_bench.rounds`) on a pool of worker processes (or on a R
 An :class:`Executions` takes scored records, sends each round the machine asks to execute to its
 pool (identical jobs share one execution: both instruction variants' same plan) and hands back
 finished records, with their execution (and, in a closed loop, their rounds), in the order
-episodes end. A replan the machine asks for waits in :meth:`Executions.requests` until the
-pipeline answers it (:meth:`Executions.answer`). An open loop is the machine with no replans.
+episodes end. A replan the machine asks for waits until :meth:`Executions.replans` asks the
+model, through the ``ask_model`` function the caller gave (the driver never calls its caller
+back). An open loop is the machine with no replans.
 The simulation is deterministic and every job starts from the episode's start scene (or a
 frozen episode that continues one), so an outcome does not depend on the pool, the number of
 workers or the order.
@@ -17,42 +18,27 @@ debugging and for callers that need the result at once).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
+from vlm_bench.parsing import parse_plan
 from vlm_bench.rounds.machine import Done, Execute, RoundMachine, Step
 from vlm_bench.rounds.replan_prompt import Conversation
 from vlm_bench.rounds.state import ReplanRequest, StateView
+from vlm_bench.runner.answers import Answer
+from vlm_bench.runner.evaluate import lost_record
 from vlm_bench.runner.execution_jobs import Executed, ExecutionJob
-from vlm_bench.runner.execution_pools import ExecutionPool, InlinePool, ProcessPool, default_workers
+from vlm_bench.runner.execution_pools import ExecutionPool
 from vlm_bench.runner.pending_jobs import PendingJobs
 from vlm_bench.runner.plan_executor import record_plan
+from vlm_bench.types.closed_loop import HistoryMode, LoopConfig
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.execution import ExecutionOptions
+from vlm_bench.types.execution import ExecutionOptions, ExecutorConfig
 from vlm_bench.types.generation import GenerationRequest
-from vlm_bench.types.parse import ParseResult
 from vlm_bench.types.plan import plan_to_json
-from vlm_bench.types.records import CachedResponse, EpisodeRecord
+from vlm_bench.types.records import EpisodeRecord
 from vlm_bench.types.rounds import RoundRecord
-from vlm_bench.types.run import RunConfig
 from vlm_bench.types.task import InstructionVariant
-
-EXECUTION_LOST = "execution lost to the infrastructure"
-"""Start of the message of a record whose execution the infrastructure lost (retried on resume)."""
-
-
-def make_pool(options: ExecutionOptions) -> ExecutionPool:
-    """The pool ``options`` ask for: inline for 0 workers, else worker processes (default:
-    one per core), or Ray tasks on a cluster."""
-    workers = default_workers() if options.workers is None else options.workers
-    if options.backend == "ray":
-        from vlm_bench.runner.executions_ray import RayPool
-
-        pool: ExecutionPool = RayPool(max(1, workers), options.ray_address, options.stall_s)
-        return pool
-    if workers <= 0:
-        return InlinePool()
-    return ProcessPool(workers)
 
 
 @dataclass
@@ -74,13 +60,22 @@ class ExecutionStats:
 
 
 @dataclass(frozen=True)
-class Ask:
-    """A replan to generate: the episode, the request and its cache key."""
+class ReplanAsk:
+    """A replan an episode waits for: what its request is made of."""
 
     key: str
     """Episode key."""
-    prompt_hash: str
-    request: GenerationRequest
+    episode: Episode
+    variant: InstructionVariant
+    replan: ReplanRequest
+    """The machine's feedback and the state the replan starts from."""
+    conversation: Conversation
+    """The rounds answered before it."""
+
+
+AskModel = Callable[[Sequence[ReplanAsk]], Iterable[Answer]]
+"""Answers replans, one answer per ask, in order (lazily: each is used before the next is
+asked for)."""
 
 
 @dataclass
@@ -101,11 +96,14 @@ class Executions:
 
     Args:
         pool: Where the rounds execute.
-        config: The run's configuration (loop, executor settings, view options).
+        executor: The executor's settings of every round (gusts, perturbations).
+        loop: The closed loop's settings (None: an open loop, one round an episode).
+        shown: The views a replan shows (none where nobody looks at them).
+        history: How a replan's conversation shows earlier rounds.
+        ask_model: Answers replans (needed by a closed loop).
         on_change: Called with (submitted, finished, running, queued) after every change.
         stall_s: Longest time with executions in flight and none finishing (s); default:
             :attr:`ExecutionOptions.stall_s <vlm_bench.types.execution.ExecutionOptions.stall_s>`.
-        sees_images: The planner reads images; False: replans' views are not rendered.
 
     An execution the infrastructure loses (its worker died
     :data:`~vlm_bench.runner.pending_jobs.MAX_ATTEMPTS` times, Ray gave up, or no execution
@@ -117,20 +115,23 @@ class Executions:
     def __init__(
         self,
         pool: ExecutionPool,
-        config: RunConfig,
+        executor: ExecutorConfig,
+        loop: LoopConfig | None = None,
+        *,
+        shown: StateView | None = None,
+        history: HistoryMode = "text",
+        ask_model: AskModel | None = None,
         on_change: Callable[[int, int, int, int], None] | None = None,
         stall_s: float | None = None,
-        sees_images: bool = True,
     ) -> None:
         self.pool = pool
-        self.config = config
-        self.closed = config.loop == "closed"
-        views = config.views if config.images and sees_images else ()
-        self.view = StateView(tuple(views), config.resolution, config.labels)
-        """The views a replan shows (none where nobody looks at them)."""
-        self.executor = config.executor_config()
+        self.executor = executor
+        self.loop = loop
+        self.view = shown or StateView()
+        self.history: HistoryMode = history
         self.stall_s = ExecutionOptions().stall_s if stall_s is None else stall_s
         self.stats = ExecutionStats()
+        self._ask_model = ask_model
         self._notify = on_change
         self._live: dict[str, _Live] = {}
         self._running: PendingJobs[str, ExecutionJob, Executed] = PendingJobs(
@@ -138,14 +139,19 @@ class Executions:
             pool.submit,
             lambda job: job.key,
             self.stall_s,
-            keep_done=not self.closed,  # closed-loop results hold frozen episodes and views
+            keep_done=loop is None,  # closed-loop results hold frozen episodes and views
         )
-        self._asks: list[tuple[str, ReplanRequest]] = []
+        self._asks: list[ReplanAsk] = []
 
     @property
     def in_flight(self) -> int:
         """Episodes not finished (executing, or waiting for a replan)."""
         return len(self._live)
+
+    @property
+    def waiting(self) -> int:
+        """Episodes waiting for a replan's answer."""
+        return len(self._asks)
 
     def running(self) -> int:
         """Executions running now (the rest of those in flight are queued)."""
@@ -156,13 +162,13 @@ class Executions:
     ) -> EpisodeRecord | None:
         """Start an episode from round 0's scored record (and its request, the first turn of a
         replan's conversation); the finished record where it has no plan to execute, else
-        None (it comes back from :meth:`collect` or :meth:`answer`)."""
+        None (it comes back from :meth:`collect` or :meth:`replans`)."""
         self.stats.submitted += 1
-        if self.closed:
-            machine = RoundMachine.closed(self.config.loop_config(), len(episode.gt_plan))
+        if self.loop is not None:
+            machine = RoundMachine.closed(self.loop, len(episode.gt_plan))
         else:
             machine = RoundMachine()
-        conversation = Conversation(self.config.history)
+        conversation = Conversation(self.history)
         conversation.add(request, record.raw_output, record.prompt_hash)
         first = record.model_copy(update={"execution": None})
         live = _Live(episode, first, machine, conversation)
@@ -174,72 +180,22 @@ class Executions:
         self._send(record.key, live, action)
         return None
 
-    def requests(self) -> list[tuple[str, ReplanRequest]]:
-        """The replans waiting for an answer, by episode key (each handed out once)."""
+    def replans(self) -> Iterator[EpisodeRecord]:
+        """Ask the model for the replans episodes wait for and execute the answers; yields the
+        records of episodes that ended (no plan, or a failed generation: an error record a
+        resume runs again from round 0, its answers so far from the cache)."""
         asks, self._asks = self._asks, []
-        return asks
-
-    def episode(self, key: str) -> Episode:
-        """The episode of a record in flight."""
-        return self._live[key].episode
-
-    def variant(self, key: str) -> InstructionVariant:
-        """The instruction variant of a record in flight."""
-        return self._live[key].first.variant
-
-    def conversation(self, key: str) -> Conversation:
-        """The answered rounds of an episode in flight (a replan's request carries them)."""
-        return self._live[key].conversation
-
-    def answer(
-        self, ask: Ask, response: CachedResponse, parse: ParseResult, cached: bool
-    ) -> EpisodeRecord | None:
-        """Execute a replan's answer (``parse``: its parse); the finished record where it ends
-        the episode."""
-        live = self._live[ask.key]
-        assert live.replan is not None  # set with the ask
-        live.conversation.add(ask.request, response.text, ask.prompt_hash)
-        action = live.machine.answered(parse.valid_steps() if parse.usable else None)
-        steps = action.steps if isinstance(action, Execute) else ()
-        live.rounds.append(
-            RoundRecord(
-                round=live.replan.round,
-                prompt_hash=ask.prompt_hash,
-                feedback=live.replan.feedback,
-                raw_output=response.text,
-                parse=parse,
-                plan=plan_to_json(list(steps)),
-                truncated=action.truncated if isinstance(action, Execute) else 0,
-                latency_s=response.latency_s,
-                prompt_tokens=response.prompt_tokens,
-                completion_tokens=response.completion_tokens,
-                finish_reason=response.finish_reason,
-                cached=cached,
-            )
-        )
-        if isinstance(action, Done):
-            return self._finish(live, action)
-        self._send(ask.key, live, action)
-        return None
-
-    def fail(self, ask: Ask, error: str, latency_s: float = 0.0) -> EpisodeRecord:
-        """The error record of an episode whose replan the backend failed to answer (a resume
-        runs it again from round 0, its answers so far from the cache)."""
-        live = self._live.pop(ask.key)
-        self._changed()
-        return live.first.model_copy(
-            update={
-                "raw_output": "",
-                "parse": None,
-                "plan": None,
-                "scores": None,
-                "execution": None,
-                "error_tags": ("backend_error",),
-                "backend_error": f"round {len(live.rounds) + 1}: {error}",
-                "latency_s": latency_s,
-                "status": "error",
-            }
-        )
+        if not asks:
+            return
+        if self._ask_model is None:
+            raise RuntimeError("a closed loop's executions need ask_model")
+        for ask, answer in zip(asks, self._ask_model(asks), strict=True):
+            if answer.response is None:
+                yield self._failed(ask.key, answer.error or "", answer.latency_s)
+                continue
+            record = self._answered(ask.key, answer)
+            if record is not None:
+                yield record
 
     def collect(self, block: bool = False, timeout: float | None = None) -> list[EpisodeRecord]:
         """Records of episodes that ended (``block``: wait for an execution to finish, or
@@ -272,6 +228,54 @@ class Executions:
         self.pool.close(cancel=cancel)
 
     # ---- internals --------------------------------------------------------------------
+    def _answered(self, key: str, answer: Answer) -> EpisodeRecord | None:
+        """Execute a replan's answer; the finished record where it ends the episode."""
+        live = self._live[key]
+        assert live.replan is not None and answer.response is not None  # set with the ask
+        question, response = answer.question, answer.response
+        parse = parse_plan(response.text, live.episode.object_ids())
+        live.conversation.add(question.request, response.text, question.prompt_hash)
+        action = live.machine.answered(parse.valid_steps() if parse.usable else None)
+        steps = action.steps if isinstance(action, Execute) else ()
+        live.rounds.append(
+            RoundRecord(
+                round=live.replan.round,
+                prompt_hash=question.prompt_hash,
+                feedback=live.replan.feedback,
+                raw_output=response.text,
+                parse=parse,
+                plan=plan_to_json(list(steps)),
+                truncated=action.truncated if isinstance(action, Execute) else 0,
+                latency_s=response.latency_s,
+                prompt_tokens=response.prompt_tokens,
+                completion_tokens=response.completion_tokens,
+                finish_reason=response.finish_reason,
+                cached=answer.cached,
+            )
+        )
+        if isinstance(action, Done):
+            return self._finish(live, action)
+        self._send(key, live, action)
+        return None
+
+    def _failed(self, key: str, error: str, latency_s: float) -> EpisodeRecord:
+        """The error record of an episode whose replan the backend failed to answer."""
+        live = self._live.pop(key)
+        self._changed()
+        return live.first.model_copy(
+            update={
+                "raw_output": "",
+                "parse": None,
+                "plan": None,
+                "scores": None,
+                "execution": None,
+                "error_tags": ("backend_error",),
+                "backend_error": f"round {len(live.rounds) + 1}: {error}",
+                "latency_s": latency_s,
+                "status": "error",
+            }
+        )
+
     def _send(self, key: str, live: _Live, action: Execute) -> None:
         live.plans.append(action.steps)
         more = len(live.plans) <= live.machine.max_replans  # a replan may follow this round
@@ -314,13 +318,15 @@ class Executions:
         if executed.state is None:  # a replan without the state it plans from cannot be asked
             raise RuntimeError(f"{key}: round {len(live.plans) - 1} left no state to replan from")
         live.replan = ReplanRequest(action.feedback, executed.state)
-        self._asks.append((key, live.replan))
+        self._asks.append(
+            ReplanAsk(key, live.episode, live.first.variant, live.replan, live.conversation)
+        )
         return None
 
     def _finish(self, live: _Live, done: Done) -> EpisodeRecord:
         self._live.pop(live.first.key, None)
         self._changed()
-        if not self.closed:
+        if self.loop is None:
             return live.first
         return live.first.model_copy(update={"rounds": tuple(live.rounds), "loop": done.outcome})
 
@@ -330,16 +336,3 @@ class Executions:
             in_flight = self._running.distinct()
             s = self.stats
             self._notify(s.submitted, s.finished, running, in_flight - running)
-
-
-def lost_record(record: EpisodeRecord, reason: str) -> EpisodeRecord:
-    """``record`` as an ``error`` record whose execution the infrastructure lost: a resume scores
-    its cached answer again and executes it."""
-    return record.model_copy(
-        update={
-            "status": "error",
-            "execution": None,
-            "backend_error": f"{EXECUTION_LOST} ({reason}); a resume runs it again",
-            "error_tags": ("execution_lost",),
-        }
-    )

@@ -26,11 +26,13 @@ import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, TypeVar
 
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.execution_jobs import Executed, ExecutionJob, execute_job
-from vlm_bench.runner.execution_pools import J, R
+
+J = TypeVar("J")
+R = TypeVar("R")
 
 MAX_RETRIES = 2
 """Times Ray runs an execution again after its worker process died."""

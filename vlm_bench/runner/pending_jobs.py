@@ -1,6 +1,5 @@
-"""Jobs in flight on an execution pool (docs/design.md#runs): the bookkeeping open-loop executions
-(:class:`~vlm_bench.runner.executions.Executions`) and closed-loop episodes
-(:class:`~vlm_bench.runner.loop_executions.LoopExecutions`) share.
+"""Jobs in flight on an execution pool (docs/design.md#runs): the bookkeeping of
+:class:`~vlm_bench.runner.executions.Executions` (one owner per episode, open or closed loop).
 
 Each job is sent once per key (identical jobs share one future). A worker process that dies
 breaks its whole pool: the pool is restarted and the jobs in flight are sent again, each at

@@ -13,29 +13,25 @@ and re-executes what has no record.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
-from vlm_bench.backends import Backend
 from vlm_bench.episodes import get_episode
-from vlm_bench.errors import VlmBenchError
-from vlm_bench.parsing import parse_plan
 from vlm_bench.rounds.replan_prompt import replan_generation_request
-from vlm_bench.rounds.state import ReplanRequest
+from vlm_bench.runner.answers import Answer, ModelAnswers, Question
 from vlm_bench.runner.cached_snapshots import SnapshotSource
-from vlm_bench.runner.episode_request import episode_request
-from vlm_bench.runner.evaluate import EpisodeInfo, error_record, scored_record
-from vlm_bench.runner.executions import Ask, Executions
+from vlm_bench.runner.episode_request import prompt_request
+from vlm_bench.runner.evaluate import EpisodeInfo, answered_record
+from vlm_bench.runner.execution_pools import ExecutionPool
+from vlm_bench.runner.executions import Executions, ReplanAsk
 from vlm_bench.runner.interrupt import StopFlag
 from vlm_bench.runner.progress import RunProgress
+from vlm_bench.runner.run_plan import RunPlan
 from vlm_bench.runner.selection import EpisodeRef
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
 from vlm_bench.types.episode import Episode
-from vlm_bench.types.generation import GenerationRequest, GenerationResult
-from vlm_bench.types.parse import ParseResult
-from vlm_bench.types.records import CachedResponse, EpisodeRecord, usage_of
-from vlm_bench.types.run import RunConfig
+from vlm_bench.types.records import EpisodeRecord
 
 STOP_POLL_S = 0.2
 """Longest wait for an execution before the stop flag (Ctrl-C, SIGTERM) is read again (s)."""
@@ -73,10 +69,9 @@ class PipelineStats:
 
 @dataclass(frozen=True)
 class _Prepared:
-    ref: EpisodeRef
     episode: Episode
     info: EpisodeInfo
-    request: GenerationRequest
+    question: Question
 
 
 def _chunks(items: Sequence[EpisodeRef], size: int) -> Iterator[Sequence[EpisodeRef]]:
@@ -85,217 +80,158 @@ def _chunks(items: Sequence[EpisodeRef], size: int) -> Iterator[Sequence[Episode
 
 
 class EpisodePipeline:
-    """Runs a run's pending episodes through one backend into one store."""
+    """Runs a run's pending episodes through the model's answers into one store.
+
+    Args:
+        plan: The run's plan (its episodes, prompt options, decoding, scoring).
+        store: The open run folder.
+        answers: The model's answers through the run's response cache (round 0's and the
+            replans').
+        snapshots: Source of snapshot PNGs (the views the plan shows).
+        progress: Shows generation and execution as they go.
+        stop: Checked between batches and executions; a requested stop raises
+            ``KeyboardInterrupt`` after the finished episodes are written (executions in
+            flight are dropped: a resume runs them again).
+        pool: Where the plan's episodes execute, when the run executes plans (the pipeline's
+            :class:`Executions` drives it and closes it); None = the run executes no plans.
+        stall_s: Longest time with executions in flight and none finishing (s).
+    """
 
     def __init__(
         self,
-        config: RunConfig,
+        plan: RunPlan,
         store: RunStore,
-        backend: Callable[[], Backend],
+        answers: ModelAnswers,
         snapshots: SnapshotSource,
         progress: RunProgress | None = None,
         stop: StopFlag | None = None,
-        executions: Executions | None = None,
-        sees_images: bool = True,
+        pool: ExecutionPool | None = None,
+        stall_s: float | None = None,
     ) -> None:
-        """Set up the pipeline of one run.
-
-        Args:
-            config: The run configuration.
-            store: The open run folder.
-            backend: Returns the backend; called only when a model answer is needed, so a
-                resume of a finished run never loads the model.
-            snapshots: Source of snapshot PNGs.
-            progress: Shows generation and execution as they go.
-            stop: Checked between batches and executions; a requested stop raises
-                ``KeyboardInterrupt`` after the finished episodes are written (executions in
-                flight are dropped: a resume runs them again).
-            executions: Where episodes execute, when the run executes plans (the pipeline
-                closes it): the replans it asks for are generated here; None = the run does
-                not execute plans.
-            sees_images: The backend reads images; False: no views are rendered and its
-                requests carry none (prompt hashes and records are the same either way).
-        """
-        self.config = config
+        self.plan = plan
         self.store = store
-        self._backend = backend
+        self.answers = answers
         self.snapshots = snapshots
-        self.sees_images = sees_images
         self.progress = progress or RunProgress(0, enabled=False)
         self.stats = PipelineStats()
-        self._episode: Episode | None = None
         self.stop = stop or StopFlag()
-        self.executions = executions if config.execute else None
+        self.executions: Executions | None = None
+        if pool is not None and plan.executor is not None:
+            self.executions = Executions(
+                pool,
+                plan.executor,
+                plan.loop,
+                shown=plan.shown,
+                history=plan.history,
+                ask_model=self.ask_model,
+                on_change=self.progress.executions_changed,
+                stall_s=stall_s,
+            )
+        self._episode: Episode | None = None
 
-    def run(self, refs: Sequence[EpisodeRef]) -> PipelineStats:
-        """Evaluate every episode of ``refs`` that has no ok record yet."""
+    def run(self) -> PipelineStats:
+        """Evaluate every episode of the plan that has no ok record yet; each record is written
+        as its episode ends."""
+        refs = self.plan.episodes
         pending = [r for r in refs if not self.store.is_done(r.key)]
         self.stats.total = len(refs)
         self.stats.skipped = len(refs) - len(pending)
         self.progress.skipped(self.stats.skipped)
         try:
-            for batch in _chunks(pending, self.config.generation.batch_size):
-                self.stop.check()
-                self._run_batch([self._prepare(ref) for ref in batch])
-                self._write_executed(block=False)
-                self._run_replans()
-            while self.executions is not None and self.executions.in_flight:
-                self.stop.check()
-                self._write_executed(block=True)  # waits at most STOP_POLL_S
-                self._run_replans()
+            for record in self._records(pending):
+                self.store.append_record(record)
+                self.progress.written(1)
         except BaseException:
             if self.executions is not None:
                 self.executions.close(cancel=True)
             raise
+        finally:
+            self._count()
         if self.executions is not None:
             self.executions.close()
         return self.stats
 
-    def _write_executed(self, block: bool) -> None:
-        """Write the records whose executions finished (``block``: wait up to
-        :data:`STOP_POLL_S` for one)."""
-        if self.executions is None:
-            return
-        for record in self.executions.collect(block=block, timeout=STOP_POLL_S):
-            self._write(record)
-        r = self.executions.stats
-        self.stats.executed = r.executed
-        self.stats.exec_crashes = r.crashes
-        self.stats.exec_crash_messages = list(r.crash_messages)
-
-    def _run_replans(self) -> None:
-        """Generate the replans episodes wait for (answers cached first, keyed by each round's
-        prompt hash and the conversation before it) and send them on; a failed generation
-        writes the episode's error record (a resume runs it again)."""
+    def _records(self, pending: Sequence[EpisodeRef]) -> Iterator[EpisodeRecord]:
+        """The records of the episodes as they end: a batch's round 0 (those not executed), and,
+        between batches and after the last, those whose rounds ended."""
         executions = self.executions
-        if executions is None:
-            return
-        asks = [self._ask(executions, key, replan) for key, replan in executions.requests()]
-        for start in range(0, len(asks), self.config.generation.batch_size):
+        for batch in _chunks(pending, self.plan.generation.batch_size):
             self.stop.check()
-            chunk = asks[start : start + self.config.generation.batch_size]
-            misses = [a for a in chunk if self.store.cached_response(a.key, a.prompt_hash) is None]
-            results = self._generate([a.request for a in misses])
-            for ask in chunk:
-                record = self._answer(executions, ask, results)
-                if record is not None:
-                    self._write(record)
+            yield from self._first_round(batch)
+            if executions is not None:
+                yield from executions.collect(block=False, timeout=STOP_POLL_S)
+                yield from executions.replans()
+        while executions is not None and executions.in_flight:
+            self.stop.check()
+            yield from executions.collect(block=True, timeout=STOP_POLL_S)
+            yield from executions.replans()
 
-    def _ask(self, executions: Executions, key: str, replan: ReplanRequest) -> Ask:
-        episode = executions.episode(key)
+    def _first_round(self, batch: Sequence[EpisodeRef]) -> Iterator[EpisodeRecord]:
+        """Answer and score a batch's round 0; yields the records of the episodes that end with
+        it (the others are sent to execute)."""
+        prepared = [self._prepare(ref) for ref in batch]
+        answers = self.answers.answer([p.question for p in prepared])
+        for p, answer in zip(prepared, answers, strict=True):
+            record = answered_record(p.info, p.episode, answer, self.plan.config.scoring)
+            self.progress.generated(1)
+            if record.ok:
+                self.stats.scored += 1
+            if record.ok and self.executions is not None:
+                self.stop.check()
+                finished = self.executions.submit(p.episode, record, p.question.request)
+                if finished is None:
+                    continue  # written when its execution finishes
+                record = finished
+            yield record
+
+    def ask_model(self, asks: Sequence[ReplanAsk]) -> Iterator[Answer]:
+        """Answer replans a generation batch at a time (the stop flag read before each)."""
+        plan = self.plan
+        questions = [self._replan_question(a) for a in asks]
+        for start in range(0, len(questions), plan.generation.batch_size):
+            self.stop.check()
+            yield from self.answers.answer(questions[start : start + plan.generation.batch_size])
+
+    def _replan_question(self, ask: ReplanAsk) -> Question:
+        plan = self.plan
         request, prompt_hash = replan_generation_request(
-            key,
-            episode,
-            replan,
-            self.config.prompt_config(executions.variant(key)),
-            executions.conversation(key),
-            constrained=self.config.generation.constrained,
-            show_images=bool(executions.view.views),
+            ask.key,
+            ask.episode,
+            ask.replan,
+            plan.prompts[ask.variant],
+            ask.conversation,
+            constrained=plan.generation.constrained,
+            show_images=bool(plan.shown.views),
         )
-        return Ask(key, prompt_hash, request)
-
-    def _answer(
-        self, executions: Executions, ask: Ask, results: dict[str, GenerationResult]
-    ) -> EpisodeRecord | None:
-        cached = self.store.cached_response(ask.key, ask.prompt_hash)
-        if cached is not None:
-            self.stats.cached += 1
-            return executions.answer(ask, cached, self._parse(executions, ask, cached), True)
-        result = results[ask.request.id]
-        if result.error is not None:
-            self.stats.errors += 1
-            if len(self.stats.error_messages) < 5:
-                self.stats.error_messages.append(f"{ask.request.id}: {result.error}")
-            return executions.fail(ask, result.error, result.latency_s)
-        response = CachedResponse(
-            key=ask.key,
-            prompt_hash=ask.prompt_hash,
-            text=result.text,
-            **usage_of(result),
-        )
-        self.store.append_response(response)
-        return executions.answer(ask, response, self._parse(executions, ask, response), False)
-
-    @staticmethod
-    def _parse(executions: Executions, ask: Ask, response: CachedResponse) -> ParseResult:
-        return parse_plan(response.text, executions.episode(ask.key).object_ids())
-
-    def _write(self, record: EpisodeRecord) -> None:
-        self.store.append_record(record)
-        self.progress.written(1)
-
-    def _episode_of(self, ref: EpisodeRef) -> Episode:
-        ep = self._episode
-        if ep is None or ep.task_id != ref.task_id or ep.seed != ref.seed:
-            ep = self._episode = get_episode(ref.task_id, ref.seed)
-        return ep
+        return Question(ask.key, prompt_hash, request)
 
     def _prepare(self, ref: EpisodeRef) -> _Prepared:
-        episode = self._episode_of(ref)
-        images = self.snapshots.images(episode) if self.sees_images else None
-        prompt, request = episode_request(self.config, ref, episode, images)
+        plan = self.plan
+        episode = self._episode
+        if episode is None or episode.task_id != ref.task_id or episode.seed != ref.seed:
+            episode = self._episode = get_episode(ref.task_id, ref.seed)
+        images = self.snapshots.images(episode) if plan.backend.sees_images else None
+        options = plan.prompts[ref.variant]
+        prompt, request = prompt_request(ref, episode, images, options, plan.generation.constrained)
         info = EpisodeInfo(
             self.store.paths.run_id,
             ref.key,
             ref.variant,
-            self.config.model,
+            plan.config.model,
             prompt.prompt_hash,
             object_order=prompt.object_order,
             first_target_visible=first_target_visible(episode),
         )
-        return _Prepared(ref, episode, info, request)
+        return _Prepared(episode, info, Question(ref.key, prompt.prompt_hash, request))
 
-    def _generate(self, requests: list[GenerationRequest]) -> dict[str, GenerationResult]:
-        if not requests:
-            return {}
-        backend = self._backend()
-        self.stats.generate_calls += 1
-        try:
-            results = backend.generate(requests, self.config.generation)
-        except VlmBenchError:
-            raise  # configuration errors stop the run with their one-line message
-        except Exception as exc:  # noqa: BLE001  (a backend bug must not kill a long run)
-            message = f"backend raised {type(exc).__name__}: {exc}"
-            results = [GenerationResult(id=r.id, error=message) for r in requests]
-        by_id = {r.id: r for r in results}
-        return {
-            req.id: by_id.get(req.id)
-            or GenerationResult(id=req.id, error="backend returned no result for this request")
-            for req in requests
-        }
-
-    def _run_batch(self, batch: list[_Prepared]) -> None:
-        store = self.store
-        misses = [p for p in batch if store.cached_response(p.ref.key, p.info.prompt_hash) is None]
-        results = self._generate([p.request for p in misses])
-        for p in batch:
-            cached = store.cached_response(p.ref.key, p.info.prompt_hash)
-            if cached is not None:
-                self.stats.cached += 1
-                record = scored_record(p.info, p.episode, cached, self.config.scoring, cached=True)
-            else:
-                result = results[p.request.id]
-                if result.error is None:
-                    response = CachedResponse(
-                        key=p.ref.key,
-                        prompt_hash=p.info.prompt_hash,
-                        text=result.text,
-                        **usage_of(result),
-                    )
-                    store.append_response(response)
-                    record = scored_record(p.info, p.episode, response, self.config.scoring)
-                else:
-                    record = error_record(p.info, p.episode, result.error, result.latency_s)
-                    self.stats.errors += 1
-                    if len(self.stats.error_messages) < 5:
-                        self.stats.error_messages.append(f"{p.ref.key}: {result.error}")
-            self.progress.generated(1)
-            if record.ok:
-                self.stats.scored += 1
-                if self.executions is not None:
-                    self.stop.check()
-                    finished = self.executions.submit(p.episode, record, p.request)
-                    if finished is None:
-                        continue  # written when its execution finishes
-                    record = finished
-            self._write(record)
+    def _count(self) -> None:
+        """Copy the answers' and the executions' counts into the stats."""
+        a = self.answers.stats
+        self.stats.cached, self.stats.errors = a.cached, a.errors
+        self.stats.generate_calls = a.generate_calls
+        self.stats.error_messages = list(a.error_messages)
+        if self.executions is not None:
+            r = self.executions.stats
+            self.stats.executed = r.executed
+            self.stats.exec_crashes = r.crashes
+            self.stats.exec_crash_messages = list(r.crash_messages)

@@ -9,7 +9,8 @@ from pathlib import Path
 from vlm_bench.episodes import get_episode
 from vlm_bench.errors import ConfigError
 from vlm_bench.runner.evaluate import EpisodeInfo, evaluate_output, scored_record
-from vlm_bench.runner.executions import Executions, make_pool
+from vlm_bench.runner.execution_pools import make_pool
+from vlm_bench.runner.executions import Executions
 from vlm_bench.runner.progress import progress_bar
 from vlm_bench.sim.visibility import first_target_visible
 from vlm_bench.storage import RunStore
@@ -89,7 +90,7 @@ def rescore_run(
         done: dict[str, EpisodeRecord] = {}
         options = execution or ExecutionOptions()
         executions = (
-            Executions(make_pool(options), config, stall_s=options.stall_s)
+            Executions(make_pool(options), config.executor_config(), stall_s=options.stall_s)
             if config.execute
             else None
         )

@@ -9,8 +9,6 @@ from pathlib import Path
 from vlm_bench.backends import operational_args
 from vlm_bench.catalog.tasks import get_task, tasks_in
 from vlm_bench.resources import results_dir
-from vlm_bench.types.protocol import ProtocolMark
-from vlm_bench.types.protocol_match import protocol_mark
 from vlm_bench.types.records import episode_key
 from vlm_bench.types.run import RunConfig
 from vlm_bench.types.task import InstructionVariant
@@ -49,11 +47,6 @@ def select_episodes(config: RunConfig) -> list[EpisodeRef]:
         for seed in config.seeds
         for variant in config.instructions
     ]
-
-
-def run_protocol(config: RunConfig) -> ProtocolMark:
-    """The run's stated protocol and how many of its episodes the run selects."""
-    return protocol_mark(config, len(select_episodes(config)), len(tasks_in(None)))
 
 
 def model_slug(model: str) -> str:

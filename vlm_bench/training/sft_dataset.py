@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from vlm_bench.export.dataset_export import DATA_FOLDER, _install, check_target
+from vlm_bench.export.dataset_export import DATA_FOLDER, check_target, install_staged
 from vlm_bench.export.features import require_dataset_extra
 from vlm_bench.export.parquet_writer import DEFAULT_SHARD_ROWS, ShardWriter, shard_names
 from vlm_bench.runner.progress import progress_bar
@@ -111,7 +111,7 @@ def export_sft(
             path.rename(path.with_name(name))
         card = sft_card(config, counts, features, writer.arrow_bytes)
         (staging / "README.md").write_text(card, encoding="utf-8")
-        _install(staging, out)
+        install_staged(staging, out)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise

@@ -40,7 +40,8 @@ def reference_config(config: RunConfig, spec: ProtocolSpec) -> RunConfig:
 def differences(config: RunConfig, spec: ProtocolSpec) -> list[str]:
     """Dotted names of the settings where ``config`` leaves ``spec`` (``seeds`` when it has a
     seed outside the protocol's)."""
-    out = config_differences(reference_config(config, spec), config)
+    reference = reference_config(config, spec)
+    out = config_differences(reference, config)
     if not set(config.seeds) <= set(spec.seeds):
         out.insert(0, "seeds")
     return out

@@ -21,6 +21,12 @@ ran out, a round's answer held no plan to execute (the oracle's replans, a parse
 empty plan), or the executor raised."""
 
 
+def round_request_id(key: str, round_index: int) -> str:
+    """The request id of an episode's round: the episode key for round 0 (as in an open
+    loop), ``key#r<round>`` for a replan."""
+    return key if round_index == 0 else f"{key}#r{round_index}"
+
+
 class RoundRecord(FiniteFrozen):
     """One replan of a closed-loop episode: what the model was told, answered and did."""
 
