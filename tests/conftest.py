@@ -21,6 +21,25 @@ os.environ.setdefault("HF_HUB_OFFLINE", "1")
 
 UPDATE_GOLDEN = os.environ.get("VLM_BENCH_UPDATE_GOLDEN") == "1"
 ROOT = Path(__file__).resolve().parents[1]
+SLOW_TESTS = Path(__file__).with_name("slow_tests.txt")
+
+
+def _measured_slow() -> set[str]:
+    """Node ids listed in ``slow_tests.txt`` (benchmarks/test_durations.py writes it)."""
+    if not SLOW_TESTS.is_file():
+        return set()
+    lines = (line.split("#", 1)[0].strip() for line in SLOW_TESTS.read_text().splitlines())
+    return {line for line in lines if line}
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Mark ``slow`` every test measured over the bound, unless it is marked ``smoke``; runs
+    before ``-m`` deselects, so the default ``-m 'not slow'`` leaves them out."""
+    slow = _measured_slow()
+    for item in items:
+        if item.nodeid in slow and item.get_closest_marker("smoke") is None:
+            item.add_marker(pytest.mark.slow)
 
 
 class Cli:

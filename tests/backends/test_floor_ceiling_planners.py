@@ -45,6 +45,7 @@ def _all_perfect(result: vlm_bench.RunResult, n: int) -> None:
         assert scores.succ and scores.s_total == 100.0, (record.key, record.raw_output)
 
 
+@pytest.mark.smoke  # the prompt states every rule the GT uses
 def test_rules_scores_100_on_every_metric(tmp_path: Path) -> None:
     _all_perfect(_rules_run(tmp_path / "run", range(2)), 60 * 2 * 2)
 

@@ -64,6 +64,7 @@ def test_ci_tasks_hold_every_skill_and_suite() -> None:
     assert skills(ci) == skills(episodes)
 
 
+@pytest.mark.smoke  # every skill and suite executes in the default suite
 @pytest.mark.parametrize(("task", "seed"), _cases(range(1), CI_TASKS))
 def test_gt_plan_succeeds_seed0(task: str, seed: int) -> None:
     _execute(task, seed)

@@ -74,8 +74,10 @@ def test_sigkill_mid_run_then_resume_equals_uninterrupted(cli: Cli, tmp_path: Pa
 
 @pytest.mark.parametrize(
     ("signum", "code", "said"),
-    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
-    ids=["ctrl_c", "sigterm"],
+    [
+        pytest.param(signal.SIGINT, 130, "interrupted", marks=pytest.mark.smoke, id="ctrl_c"),
+        pytest.param(signal.SIGTERM, 143, "terminated", id="sigterm"),
+    ],
 )
 def test_ctrl_c_or_sigterm_exits_with_a_resume_hint(
     cli: Cli, tmp_path: Path, signum: int, code: int, said: str
