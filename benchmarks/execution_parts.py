@@ -147,6 +147,8 @@ def compare(episodes: list[tuple[str, int]], other: Path) -> None:
                 cwd=tree,
             )
             out[name] = json.loads(run.stdout.strip().splitlines()[-1])
+            if not Path(out[name]["code"]).is_relative_to(tree):  # the tree's code, not another
+                raise SystemExit(f"{name} ran {out[name]['code']}, not code under {tree}")
             total[name] += out[name]["wall"]
         same = out["this"]["result"] == out["other"]["result"]
         equal += same
@@ -166,8 +168,10 @@ def main() -> None:
     args = parser.parse_args()
     if args.worker is not None:  # one execution, in the tree on PYTHONPATH: a JSON line
         ((task, seed),) = _episodes(args.worker)
+        import vlm_bench
+
         wall, sim, result = _execute(task, seed)
-        print(json.dumps({"wall": wall, "sim": sim, "result": result}))
+        print(json.dumps({"wall": wall, "sim": sim, "result": result, "code": vlm_bench.__file__}))
     elif args.against is not None:
         compare(_episodes(args.episodes), args.against)
     else:
