@@ -1,6 +1,7 @@
 """Where a GT execution's wall time goes, and two source trees compared on the same executions.
 
-Usage: ``python benchmarks/execution_parts.py [--episodes task:seed,...] [--against PATH]``
+Usage: ``python benchmarks/execution_parts.py [--episodes task:seed,...] [--against PATH
+[--clock cpu]]``
 
 Executes the GT plans of ``--episodes`` (default: four typical episodes and four planning-heavy
 long-horizon ones) back to back in one process and prints the wall time by part: physics steps
@@ -10,7 +11,8 @@ rest (planning in Python, scene build, goal check). The timers add about 0.3 µs
 
 With ``--against PATH`` (another checkout of vlm-bench, e.g. ``git worktree add /tmp/old REV``)
 each episode is executed once by this tree and once by that one, alternately, each in a fresh
-process without timers, and the script prints each episode's wall time in both, the ratio, and
+process without timers, and the script prints each episode's wall time (``--clock cpu``: its
+CPU time, steadier on a loaded machine) in both, the ratio, and
 whether the two results are equal (every field of the execution result but its wall time): a
 change meant to keep outcomes shows ``equal`` everywhere.
 """
@@ -44,16 +46,18 @@ def _episodes(text: str) -> list[tuple[str, int]]:
     return [(e.rsplit(":", 1)[0], int(e.rsplit(":", 1)[1])) for e in text.split(",") if e]
 
 
-def _execute(task: str, seed: int) -> tuple[float, float, dict[str, Any]]:
-    """Wall time, simulated time and the result (without its wall time) of one GT execution."""
+def _execute(task: str, seed: int) -> tuple[float, float, dict[str, Any], float]:
+    """Wall time, simulated time, the result (without its wall time) and the CPU time of one
+    GT execution."""
     from vlm_bench.episodes import make_episode
     from vlm_bench.executor import execute_plan
 
     episode = make_episode(task, seed)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.thread_time()
     result = execute_plan(episode, episode.gt_plan)
-    wall = time.perf_counter() - t0
-    return wall, result.sim_time_s, json.loads(result.model_dump_json(exclude={"wall_time_s"}))
+    wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
+    dump = json.loads(result.model_dump_json(exclude={"wall_time_s"}))
+    return wall, result.sim_time_s, dump, cpu
 
 
 class _Timers:
@@ -97,7 +101,7 @@ def parts(episodes: list[tuple[str, int]]) -> None:
     timers.wrap(collision_check.CollisionChecker, "_collide", "computed")
     wall = sim = 0.0
     for task, seed in episodes:
-        w, s, _ = _execute(task, seed)
+        w, s, _, _ = _execute(task, seed)
         wall, sim = wall + w, sim + s
         print(f"{task} seed {seed}: {s:.1f} s simulated in {w:.2f} s ({s / w:.1f}x)")
     t, n = timers.seconds, timers.calls
@@ -126,10 +130,12 @@ def parts(episodes: list[tuple[str, int]]) -> None:
         print(f"| {label} | {seconds:.2f} | {seconds / wall:.0%} | {count} | {per} |")
 
 
-def compare(episodes: list[tuple[str, int]], other: Path) -> None:
-    """Execute each episode in this tree and in ``other``, alternately, and compare."""
+def compare(episodes: list[tuple[str, int]], other: Path, clock: str) -> None:
+    """Execute each episode in this tree and in ``other``, alternately, and compare their
+    ``clock`` (wall or cpu) seconds."""
     trees = {"this": REPO, "other": other.resolve()}
     print(f"machine: {machine()}\nthis: {REPO}\nother: {trees['other']}\n")
+    print(f"{clock} seconds of each execution\n")
     print("| episode | this s | other s | other / this | results |")
     print("|---|---|---|---|---|")
     total = {"this": 0.0, "other": 0.0}
@@ -147,10 +153,12 @@ def compare(episodes: list[tuple[str, int]], other: Path) -> None:
                 cwd=tree,
             )
             out[name] = json.loads(run.stdout.strip().splitlines()[-1])
-            total[name] += out[name]["wall"]
+            if not Path(out[name]["code"]).is_relative_to(tree):  # the tree's code, not another
+                raise SystemExit(f"{name} ran {out[name]['code']}, not code under {tree}")
+            total[name] += out[name][clock]
         same = out["this"]["result"] == out["other"]["result"]
         equal += same
-        a, b = out["this"]["wall"], out["other"]["wall"]
+        a, b = out["this"][clock], out["other"][clock]
         print(
             f"| {task}:{seed} | {a:.2f} | {b:.2f} | {b / a:.2f} | {'equal' if same else 'DIFFER'} |"
         )
@@ -162,14 +170,23 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", default=DEFAULT, help="task:seed list, comma-separated")
     parser.add_argument("--against", type=Path, default=None, help="another vlm-bench checkout")
+    parser.add_argument(
+        "--clock",
+        choices=("wall", "cpu"),
+        default="wall",
+        help="with --against: compare wall or CPU seconds (cpu: a loaded machine)",
+    )
     parser.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker is not None:  # one execution, in the tree on PYTHONPATH: a JSON line
         ((task, seed),) = _episodes(args.worker)
-        wall, sim, result = _execute(task, seed)
-        print(json.dumps({"wall": wall, "sim": sim, "result": result}))
+        import vlm_bench
+
+        wall, sim, result, cpu = _execute(task, seed)
+        code = vlm_bench.__file__
+        print(json.dumps({"wall": wall, "cpu": cpu, "sim": sim, "result": result, "code": code}))
     elif args.against is not None:
-        compare(_episodes(args.episodes), args.against)
+        compare(_episodes(args.episodes), args.against, args.clock)
     else:
         parts(_episodes(args.episodes))
 

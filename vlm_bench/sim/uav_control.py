@@ -99,7 +99,8 @@ class UavController:
         self._comp_bodies = np.array([b for b in subtree if model.body_gravcomp[b] > 0], dtype=int)
         self._comp_weights = (model.body_mass * model.body_gravcomp)[self._comp_bodies]
         self._comp_weight = float(self._comp_weights.sum())
-        self._integral = np.zeros(3)
+        self._integral: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        self._set_gains()
         self._gust_rng = np.random.default_rng(gust.seed if gust else 0)
         self._gust_state = np.zeros(6)
         self.setpoint = np.array(data.qpos[self._qpos : self._qpos + 3], dtype=np.float64)
@@ -119,7 +120,7 @@ class UavController:
 
     def reset(self) -> None:
         """Clear the integral term and the gust state (restart the gust sequence)."""
-        self._integral[:] = 0.0
+        self._integral = (0.0, 0.0, 0.0)
         self._gust_state[:] = 0.0
         self._gust_rng = np.random.default_rng(self.gust.seed if self.gust else 0)
 
@@ -127,28 +128,32 @@ class UavController:
         """Write this step's force and torque on the UAV body; call before every ``mj_step``.
 
         Runs at every physics step, so it works on Python floats over views of ``data``
-        made once per data (numpy calls on 3-vectors cost ~1 µs each: 5× slower)."""
-        v = self._views(data)
-        g = self.gains
+        made once per data (numpy calls on 3-vectors cost ~1 µs each: 5× slower), with the
+        gains read once into a tuple."""
+        v = self._data_views
+        if v is None or v.data is not data:
+            v = self._views(data)
+        if self._gains_of is not self.gains:
+            self._set_gains()
+        pos_p, vel_p, k_i, i_zone, i_speed, i_limit, max_speed, max_accel = self._pos_gains
+        att_p, att_d, max_yaw_error, max_ang_accel = self._att_gains
         # Position: cascaded P loops with an integral near the setpoint, bounded.
         px, py, pz = v.qpos.tolist()
         vx, vy, vz, w0, w1, w2 = v.qvel.tolist()
         sx, sy, sz = self.setpoint.tolist()
         ex, ey, ez = sx - px, sy - py, sz - pz
-        cx, cy, cz = _clip3(g.pos_p * ex, g.pos_p * ey, g.pos_p * ez, g.max_speed)
-        i = self._integral.tolist()
+        cx, cy, cz = _clip3(pos_p * ex, pos_p * ey, pos_p * ez, max_speed)
+        i = self._integral
         if (
-            math.sqrt(ex * ex + ey * ey + ez * ez) < g.i_zone
-            and math.sqrt(vx * vx + vy * vy + vz * vz) < g.i_speed
+            math.sqrt(ex * ex + ey * ey + ez * ez) < i_zone
+            and math.sqrt(vx * vx + vy * vy + vz * vz) < i_speed
         ):  # no wind-up in transients
-            k = g.pos_i * self._dt
-            i = list(_clip3(i[0] + k * ex, i[1] + k * ey, i[2] + k * ez, g.i_limit))
-            self._integral[:] = i
+            i = self._integral = _clip3(i[0] + k_i * ex, i[1] + k_i * ey, i[2] + k_i * ez, i_limit)
         ax, ay, az = _clip3(
-            g.vel_p * (cx - vx) + i[0],
-            g.vel_p * (cy - vy) + i[1],
-            g.vel_p * (cz - vz) + i[2],
-            g.max_accel,
+            vel_p * (cx - vx) + i[0],
+            vel_p * (cy - vy) + i[1],
+            vel_p * (cz - vz) + i[2],
+            max_accel,
         )
         gx, gy, gz = self._grav
         m = self.mass
@@ -161,16 +166,16 @@ class UavController:
         r = v.xmat.tolist()
         yaw = math.atan2(r[3], r[0])
         yaw_error = (self.yaw_setpoint - yaw + math.pi) % (2 * math.pi) - math.pi
-        yaw_error = max(-g.max_yaw_error, min(g.max_yaw_error, yaw_error))
+        yaw_error = max(-max_yaw_error, min(max_yaw_error, yaw_error))
         ox = r[0] * w0 + r[1] * w1 + r[2] * w2
         oy = r[3] * w0 + r[4] * w1 + r[5] * w2
         oz = r[6] * w0 + r[7] * w1 + r[8] * w2
         # tilt error: z_body × z_world, the axis (and sine) of the rotation that levels it
         bx, by, bz = _clip3(
-            g.att_p * r[5] - g.att_d * ox,
-            -g.att_p * r[2] - g.att_d * oy,
-            g.att_p * yaw_error - g.att_d * oz,
-            g.max_ang_accel,
+            att_p * r[5] - att_d * ox,
+            -att_p * r[2] - att_d * oy,
+            att_p * yaw_error - att_d * oz,
+            max_ang_accel,
         )
         inertia, (d0, d1, d2) = v.M.item, v.rot_diag
         # body-frame angular acceleration times inertia, back to the world frame
@@ -183,7 +188,8 @@ class UavController:
         # The weight gravcomp hides from the base, as force and torque at its COM (the
         # weighted sum stays numpy's, whose summation order a Python loop would not keep).
         w = self._comp_weight
-        mx, my, mz = (self._comp_weights @ v.comp_xipos).tolist()
+        np.matmul(self._comp_weights, v.comp_xipos, out=v.comp_sum)
+        mx, my, mz = v.comp_sum.tolist()
         mx, my, mz = mx - w * cog[0], my - w * cog[1], mz - w * cog[2]
         fx, fy, fz = fx + w * gx, fy + w * gy, fz + w * gz
         tx += my * gz - mz * gy
@@ -196,6 +202,23 @@ class UavController:
             out += gust
         else:
             out[:] = (fx, fy, fz, tx, ty, tz)
+
+    def _set_gains(self) -> None:
+        """:attr:`gains` as the tuples :meth:`apply` unpacks (the integral gain times the
+        physics step, as it is used)."""
+        g = self.gains
+        self._pos_gains = (
+            g.pos_p,
+            g.vel_p,
+            g.pos_i * self._dt,
+            g.i_zone,
+            g.i_speed,
+            g.i_limit,
+            g.max_speed,
+            g.max_accel,
+        )
+        self._att_gains = (g.att_p, g.att_d, g.max_yaw_error, g.max_ang_accel)
+        self._gains_of: UavGains | None = g
 
     def _views(self, data: mujoco.MjData) -> _Views:
         """The views of ``data`` :meth:`apply` reads and writes (made once per data)."""
@@ -216,6 +239,7 @@ class UavController:
                 if len(comp) and np.array_equal(comp, np.arange(comp[0], comp[-1] + 1))
                 else data.xipos[comp],
                 xfrc=data.xfrc_applied[b],
+                comp_sum=np.zeros(3),
             )
         return views
 
@@ -241,6 +265,8 @@ class _Views:
     rot_diag: tuple[int, ...]
     comp_xipos: Array
     xfrc: Array
+    comp_sum: Array
+    """Where :meth:`UavController.apply` writes the gravcomp bodies' weighted positions."""
 
 
 def _clip3(x: float, y: float, z: float, limit: float) -> tuple[float, float, float]:

@@ -92,7 +92,9 @@ class ArmCore:
         ]
         longest = float(np.max(np.linalg.norm(np.diff(tcp, axis=0), axis=1)))
         n = max(n, math.ceil(n * longest / max(PATH_TRAVEL, clearance)))
-        return [q_from + (q_to - q_from) * k / n for k in range(1, n + 1)]
+        # The same floats as [q_from + (q_to - q_from) * k / n for k in 1..n], as one array.
+        steps = np.arange(1, n + 1, dtype=np.float64)[:, None]
+        return list(q_from + (q_to - q_from) * steps / n)
 
     def hits_at(
         self, postures: Iterable[FloatArray], query: CollisionQuery, limit: float = math.inf

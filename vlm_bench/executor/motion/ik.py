@@ -47,6 +47,12 @@ planner's other starts find the rare posture a stalled solve gives up on (measur
 ``docs/decisions.md``)."""
 
 
+def _norm(x: FloatArray) -> float:
+    """``np.linalg.norm(x)`` of a vector, computed as it does (the square root of
+    ``x.dot(x)``) without its generic dispatch."""
+    return math.sqrt(float(x.dot(x)))
+
+
 def stalled(best: list[float]) -> bool:
     """Whether a solve whose lowest residuals so far, per iteration, are ``best`` stalls
     (see :data:`STALL_GAIN`)."""
@@ -191,7 +197,7 @@ class ArmIk:
         best: list[float] = []  # the lowest residual so far, per iteration
         for _ in range(iterations):
             err = self.frame.compute_error(self.config)
-            e_pos, e_rot = float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
+            e_pos, e_rot = _norm(err[:3]), _norm(err[3:])
             residual = e_pos + e_rot
             if e_pos < POS_TOL and e_rot < ROT_TOL:
                 break

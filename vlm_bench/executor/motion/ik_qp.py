@@ -54,6 +54,27 @@ class IkQp:
         self._g = np.vstack([projection, -projection])
         self._lower_bound = np.full(self._g.shape[0], -_INF)
         self._sense = np.zeros(self._g.shape[0], dtype=c_int)
+        # Buffers the stacked arrays are written into (np.vstack, concatenate and hstack made
+        # new ones each iteration; the values and layouts are the same).
+        rows = frame.cost.shape[0]
+        self._rows = rows
+        self._w = np.empty((rows + self._posture_jacobian.shape[0], self.nv))
+        self._w[rows:] = self._posture_jacobian
+        self._e = np.empty(self._w.shape[0])
+        n = len(limit.indices)
+        self._upper = np.empty(2 * n)
+        self._to_upper = np.empty((self.nv,))
+        self._from_lower = np.empty((self.nv,))
+        self._posture_err = np.empty((self.nv,))
+
+    def _posture_error(self) -> FloatArray:
+        """``posture.compute_error(config)``: the same call, positional, into a buffer."""
+        qvel = self._posture_err
+        target = self.posture.target_q
+        mujoco.mj_differentiatePos(self.config.model, qvel, 1.0, target, self.config.data.qpos)
+        if self.posture._v_ids is not None:
+            qvel[self.posture._v_ids] = 0.0
+        return qvel
 
     def velocity(self, frame_error: FloatArray, dt: float) -> FloatArray:
         """The tangent velocity ``solve_ik`` returns at the configuration now, given the frame
@@ -66,29 +87,28 @@ class IkQp:
         # Frame task: cost-weighted Jacobian and error, and its LM term (Task._weighted_residual).
         jacobian = frame.compute_jacobian(config)
         frame_error_w = frame.cost * (-frame.gain * frame_error)
-        frame_jacobian_w = frame.cost[:, None] * jacobian
+        rows, w, e = self._rows, self._w, self._e
+        np.multiply(frame.cost[:, None], jacobian, out=w[:rows])  # the weighted Jacobian
         frame_mu = frame.lm_damping * float(frame_error_w @ frame_error_w)
-        posture_error_w = posture.cost * (-posture.gain * posture.compute_error(config))
+        posture_error_w = posture.cost * (-posture.gain * self._posture_error())
         posture_mu = posture.lm_damping * float(posture_error_w @ posture_error_w)
         # Objective (solve_ik's _compute_qp_objective).
-        w = np.vstack([frame_jacobian_w, self._posture_jacobian])
         h_matrix = w.T @ w
-        c = -(np.concatenate([frame_error_w, posture_error_w]) @ w)
+        e[:rows] = frame_error_w
+        e[rows:] = posture_error_w
+        c = -(e @ w)
         mu_total = 0.0
         mu_total += frame_mu
         mu_total += posture_mu
         h_matrix.flat[:: self.nv + 1] += self.damping + mu_total
         # Inequalities (ConfigurationLimit.compute_qp_inequalities).
-        limit, q = self.limit, config.q
-        to_upper = np.empty((self.nv,))
-        mujoco.mj_differentiatePos(m=limit.model, qvel=to_upper, dt=1.0, qpos1=q, qpos2=limit.upper)
-        from_lower = np.empty((self.nv,))
-        mujoco.mj_differentiatePos(
-            m=limit.model, qvel=from_lower, dt=1.0, qpos1=limit.lower, qpos2=q
-        )
-        upper = np.hstack(
-            [limit.gain * to_upper[limit.indices], limit.gain * from_lower[limit.indices]]
-        )
+        limit, q = self.limit, config.data.qpos
+        to_upper, from_lower = self._to_upper, self._from_lower
+        mujoco.mj_differentiatePos(limit.model, to_upper, 1.0, q, limit.upper)
+        mujoco.mj_differentiatePos(limit.model, from_lower, 1.0, limit.lower, q)
+        upper, n = self._upper, len(limit.indices)
+        np.multiply(limit.gain, to_upper[limit.indices], out=upper[:n])
+        np.multiply(limit.gain, from_lower[limit.indices], out=upper[n:])
         x, _, exitflag, _ = daqp.solve(
             h_matrix, c, self._g, upper, self._lower_bound, self._sense, primal_start=None
         )
