@@ -16,6 +16,7 @@ from vlm_bench.vla.demos.reader import DemoDataset
 pytest.importorskip("torch")
 
 
+@pytest.mark.smoke  # the plain-torch policy loop in the default suite
 def test_a_tiny_policy_trains_from_disk_and_is_scored_in_the_closed_loop(
     synthetic: tuple[Path, list[EpisodeData]],
 ) -> None:

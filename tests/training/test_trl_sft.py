@@ -98,6 +98,7 @@ def test_sft_trainer_trains_a_tiny_vlm_whose_checkpoint_vlm_bench_runs(
     assert all(r["status"] != "error" and r.get("backend_error") is None for r in records)
 
 
+@pytest.mark.smoke  # the trl SFT loop in the default suite
 def test_prompt_completion_form_trains_on_the_answer_only(export: Path, tmp_path: Path) -> None:
     """The recipe's variant: ``messages`` split into ``prompt`` and ``completion`` (trl then
     computes the loss on the completion alone)."""
