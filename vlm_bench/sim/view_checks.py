@@ -22,7 +22,7 @@ All three work on segmentation renders
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from PIL import Image, ImageDraw
@@ -35,7 +35,7 @@ from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import GeomIdImage, SnapshotRenderer
 from vlm_bench.sim.scene import Scene
 from vlm_bench.sim.snapshot_render import box_corners, label_tags
-from vlm_bench.types.episode import Episode
+from vlm_bench.types.episode import Episode, EpisodeObject
 
 MIN_HEIGHT_SHARE = 0.8
 """Least share of a support's projected rows that its seen pixels must span."""
@@ -99,6 +99,19 @@ def _top_seen(seg: GeomIdImage, quad: np.ndarray, corners_in: np.ndarray, geoms:
     return total >= MIN_TOP_PIXELS and shown >= MIN_TOP_SHARE * total
 
 
+def _per_support(
+    scene: Scene,
+    segs: dict[str, GeomIdImage],
+    seen: Callable[[EpisodeObject, GeomIdImage, str], bool],
+) -> dict[str, dict[str, bool]]:
+    """``seen(support, segmentation, view)`` for each height support and view of ``segs``."""
+    by_id = {o.id: o for o in scene.episode.objects}
+    return {
+        sid: {view: seen(by_id[sid], seg, view) for view, seg in segs.items()}
+        for sid in height_supports(scene.episode)
+    }
+
+
 def support_tops(
     scene: Scene,
     renderer: SnapshotRenderer,
@@ -108,19 +121,15 @@ def support_tops(
 ) -> dict[str, dict[str, bool]]:
     """For each height support (:func:`height_supports`), whether each view shows its top
     (module doc)."""
-    segs = segs or view_segmentations(scene, renderer, size, views)
-    by_id = {o.id: o for o in scene.episode.objects}
-    out: dict[str, dict[str, bool]] = {}
-    for sid in height_supports(scene.episode):
-        geoms = [
-            g for oid in _standing_on(scene.episode, sid) for g in subtree_geoms(scene.model, oid)
-        ]
-        top = box_corners(by_id[sid])[[1, 3, 7, 5]]  # the z = top corners, round the face
-        out[sid] = {}
-        for view in views:
-            pix, inside = project_points(scene.model, scene.data, view, top, size, size)
-            out[sid][view] = _top_seen(segs[view], pix, inside, geoms)
-    return out
+
+    def seen(support: EpisodeObject, seg: GeomIdImage, view: str) -> bool:
+        on = _standing_on(scene.episode, support.id)
+        geoms = [g for oid in on for g in subtree_geoms(scene.model, oid)]
+        top = box_corners(support)[[1, 3, 7, 5]]  # the z = top corners, round the face
+        pix, inside = project_points(scene.model, scene.data, view, top, size, size)
+        return _top_seen(seg, pix, inside, geoms)
+
+    return _per_support(scene, segs or view_segmentations(scene, renderer, size, views), seen)
 
 
 def support_visibility(
@@ -132,21 +141,17 @@ def support_visibility(
 ) -> dict[str, dict[str, bool]]:
     """For each height support (:func:`height_supports`), whether each view shows its top and
     full height (module doc)."""
-    segs = segs or view_segmentations(scene, renderer, size, views)
-    by_id = {o.id: o for o in scene.episode.objects}
-    out: dict[str, dict[str, bool]] = {}
-    for sid in height_supports(scene.episode):
-        geoms = subtree_geoms(scene.model, sid)
-        out[sid] = {}
-        for view in views:
-            pix, inside = project_points(
-                scene.model, scene.data, view, box_corners(by_id[sid]), size, size
-            )
-            rows = np.nonzero(np.isin(segs[view], geoms).any(axis=1))[0]
-            span = float(pix[:, 1].max() - pix[:, 1].min()) if inside.all() else 0.0
-            seen = float(rows.max() - rows.min() + 1) if rows.size else 0.0
-            out[sid][view] = bool(inside.all() and seen >= MIN_HEIGHT_SHARE * span)
-    return out
+
+    def seen(support: EpisodeObject, seg: GeomIdImage, view: str) -> bool:
+        geoms = subtree_geoms(scene.model, support.id)
+        corners = box_corners(support)
+        pix, inside = project_points(scene.model, scene.data, view, corners, size, size)
+        rows = np.nonzero(np.isin(seg, geoms).any(axis=1))[0]
+        span = float(pix[:, 1].max() - pix[:, 1].min()) if inside.all() else 0.0
+        shown = float(rows.max() - rows.min() + 1) if rows.size else 0.0
+        return bool(inside.all() and shown >= MIN_HEIGHT_SHARE * span)
+
+    return _per_support(scene, segs or view_segmentations(scene, renderer, size, views), seen)
 
 
 def label_overlaps(
