@@ -136,3 +136,21 @@ class ArmCore:
     def body_geoms(self, body: str) -> set[int]:
         """Geoms of ``body`` and its children."""
         return set(subtree_geoms(self.loop.model, self.loop.model.body(body).id))
+
+
+def spaced_postures(
+    postures: Sequence[FloatArray], points: Sequence[FloatArray]
+) -> list[FloatArray]:
+    """Of the postures a servoed path commands (the TCP at ``points``), those a check of the
+    path visits: consecutive ones at most :data:`PATH_TRAVEL` m of the TCP's travel and
+    :data:`PATH_STEP` rad of the widest joint swing apart, as :meth:`ArmCore.joint_samples`
+    spaces a joint-space move (where one control step goes farther, both its ends), the end
+    included."""
+    kept = [0]
+    for i in range(1, len(postures)):
+        last, nxt = kept[-1], min(i + 1, len(postures) - 1)
+        travel = float(np.linalg.norm(points[nxt] - points[last])) / PATH_TRAVEL
+        swing = float(np.max(np.abs(postures[nxt] - postures[last]))) / PATH_STEP
+        if i == len(postures) - 1 or max(travel, swing) > 1.0:
+            kept.append(i)
+    return [postures[i] for i in kept]

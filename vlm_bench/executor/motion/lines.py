@@ -12,7 +12,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from vlm_bench.executor.motion.arm_core import IK_OK, MIN_MARGIN, ArmCore
+from vlm_bench.executor.motion.arm_core import IK_OK, MIN_MARGIN, ArmCore, spaced_postures
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
 from vlm_bench.executor.motion.ik import top_down_rotation
@@ -131,9 +131,11 @@ class ArmLines:
         towards ``q_end``: a joint-space move between two top-down postures tilts the hand
         midway, which swings an object held off its centre of mass out of the fingers.
         With ``about`` (a point, world), the hand swings round the vertical through it
-        instead (:func:`arc_poses`). Previewed first with
-        the held object carried; ``False``, nothing moved, where IK loses the path, a joint
-        would reach its limit or something would be touched."""
+        instead (:func:`arc_poses`). Previewed first with the held object carried and
+        checked as densely as a joint-space move (:func:`spaced_postures`: a held object
+        passes through a thin rim between two checks farther apart); ``False``, nothing
+        moved, where IK loses the path, a joint would reach its limit or something would be
+        touched."""
         start, now_rot = self.core.tcp()
         if now_rot[2, 2] > -0.99 or (rotation is not None and rotation[2, 2] > -0.99):
             return False  # not pointing down
@@ -153,7 +155,7 @@ class ArmLines:
         if path is None or self.core.near_limit(path, GLIDE_MARGIN):
             return False  # at a limit, the servo strays off the line
         query = CollisionQuery.of(set(), gripper, BaseMove.still(), self.core.carried())
-        checked = [*path[:: max(1, len(progress) // 10)], path[-1]]
+        checked = spaced_postures(path, [point for point, _ in poses])
         if any(self.core.collisions(p, query) for p in checked):
             return False
         return self.follow(poses, gripper, rests)
