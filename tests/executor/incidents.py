@@ -1,6 +1,7 @@
 """The scenes of past executor incidents, frozen as they were materialised when each was seen
-(commit 357ab69, before the UAV's start altitude varied), so a regression test keeps executing
-the scene that showed the problem whatever the episode generator draws today."""
+(commit 357ab69, before the UAV's start altitude varied; ``tower_stacking:8`` at 87fa08c,
+benchmark version 3), so a regression test keeps executing the scene that showed the problem
+whatever the episode generator draws today."""
 
 from __future__ import annotations
 

@@ -11,7 +11,7 @@ from incidents import incident_episode
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes import get_episode
 from vlm_bench.executor.goals import check_goals
-from vlm_bench.executor.live_episode import execute_plan
+from vlm_bench.executor.live_episode import LiveEpisode, execute_plan
 from vlm_bench.executor.motion import arm_core as arm_core_module
 from vlm_bench.executor.motion.arm_planner import MAX_ASSIST, WORK_RADII
 from vlm_bench.executor.motion.base_move import BaseMove
@@ -344,6 +344,20 @@ def test_a_planned_move_is_checked_densely_along_the_hand(
     assert seen & basket
     result = execute_plan(episode, episode.gt_plan, scene=build_scene(episode))
     assert result.exec_success, result.failure_reason
+
+
+def test_a_glide_is_checked_densely_along_the_hand() -> None:
+    """tower_stacking seed 8: the arc glide carrying the gray cube to above the Rubik's cube,
+    which sat in the yellow basket, swept the cube through the basket's rim between two of
+    its 11 checks (7 cm apart) and dragged the basket 0.23 m; the cube was let go on the
+    table. Checked every centimetre, that glide is refused, the plan's checked way takes the
+    cube over the rim, and the basket stays where it was."""
+    episode = incident_episode("tower_stacking", 8)
+    live = LiveEpisode(episode)
+    basket = np.array(live.loop.data.body("yellow_basket").xpos)
+    result = live.execute(episode.gt_plan)
+    assert result.exec_success, result.failure_reason
+    assert np.linalg.norm(live.loop.data.body("yellow_basket").xpos - basket) < 0.01
 
 
 def test_a_release_right_under_the_uav_is_reached_by_backing_off() -> None:
