@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 import vlm_bench
+from tests.conftest import run_benchmark
 from vlm_bench.backends import blind_planner
 from vlm_bench.backends.blind_planner import (
     blind_plan,
@@ -125,3 +126,12 @@ def test_blind_never_reads_its_own_seed(monkeypatch: pytest.MonkeyPatch) -> None
                 seeds[seed] = (D.BACKRIGHT,)
     after = blind_plan(ep.task_id, ep.seed, ep.arm_steps())
     assert after[0] == UavStep(direction=D.BACKRIGHT) and after != before
+
+
+@pytest.mark.slow  # ~10 s: six planners over the 1,200 episodes
+def test_blind_is_the_strongest_text_only_planner_of_the_benchmark() -> None:
+    out = run_benchmark("text_only_planners.py", "--seeds", "0-9")
+    rows = [line.split() for line in out.splitlines()[1:] if line.strip()]
+    s_loc = {row[0]: float(row[3]) for row in rows}
+    assert set(s_loc) >= {"blind", "constant", "altitude_weighted", "task_threshold"}, s_loc
+    assert max(s_loc, key=lambda name: s_loc[name]) == "blind", s_loc
