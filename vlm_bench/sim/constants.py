@@ -10,6 +10,9 @@ something touches them, ~2-3x fewer contacts and a faster step (the robot, actua
 awake). Validated by the oracle sweep (see docs/performance.md)."""
 CONTROL_DT = 0.05
 STEPS_PER_CONTROL = round(CONTROL_DT / PHYSICS_DT)
+UAV_CONTROL_EVERY = 2
+"""Physics steps per update of the UAV controller (250 Hz; its force is held in between).
+Every 5 steps (100 Hz) a push fell short (docs/decisions.md, "Simulation speed")."""
 
 # UAV.
 UAV_BODY = "uav"

@@ -74,6 +74,9 @@ class UavController:
         data: Its data (only read here; :meth:`apply` takes the data to write).
         gains: Gains and limits.
         gust: Optional random wind.
+        every: Physics steps per update (:data:`~vlm_bench.sim.constants.UAV_CONTROL_EVERY`):
+            :meth:`apply`, called every step, computes the force at the first of each
+            ``every`` calls and leaves it in ``data`` for the others.
     """
 
     def __init__(
@@ -82,8 +85,11 @@ class UavController:
         data: mujoco.MjData,
         gains: UavGains | None = None,
         gust: GustConfig | None = None,
+        every: int = c.UAV_CONTROL_EVERY,
     ) -> None:
         self.model = model
+        self.every = every
+        self._tick = 0
         self.gains = gains or UavGains()
         self.gust = gust
         self.body = int(model.body(c.UAV_BODY).id)
@@ -93,7 +99,7 @@ class UavController:
         self._rot_diag = np.array([_diag_index(model, self._dof + 3 + k) for k in range(3)])
         self.mass = float(model.body_subtreemass[self.body])
         self._grav = tuple(float(x) for x in model.opt.gravity)
-        self._dt = float(model.opt.timestep)
+        self._dt = float(model.opt.timestep) * every  # the controller's period
         # Bodies under the base whose weight gravcomp hides from it.
         subtree = robot_body_ids(model)
         self._comp_bodies = np.array([b for b in subtree if model.body_gravcomp[b] > 0], dtype=int)
@@ -121,6 +127,7 @@ class UavController:
     def reset(self) -> None:
         """Clear the integral term and the gust state (restart the gust sequence)."""
         self._integral = (0.0, 0.0, 0.0)
+        self._tick = 0
         self._gust_state[:] = 0.0
         self._gust_rng = np.random.default_rng(self.gust.seed if self.gust else 0)
 
@@ -129,7 +136,11 @@ class UavController:
 
         Runs at every physics step, so it works on Python floats over views of ``data``
         made once per data (numpy calls on 3-vectors cost ~1 µs each: 5× slower), with the
-        gains read once into a tuple."""
+        gains read once into a tuple. Between updates (``every``) the force stays as written."""
+        tick = self._tick
+        self._tick = tick + 1 if tick + 1 < self.every else 0
+        if tick:
+            return
         v = self._data_views
         if v is None or v.data is not data:
             v = self._views(data)
