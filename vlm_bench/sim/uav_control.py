@@ -1,7 +1,8 @@
 """Position and attitude controller that holds the floating UAV base at a setpoint.
 
-The UAV is abstracted as a fully actuated rigid body: every physics step the controller writes
-one world-frame force and torque on the UAV body (``data.xfrc_applied``); the base is never
+The UAV is abstracted as a fully actuated rigid body: every ``UAV_CONTROL_EVERY`` physics steps
+the controller writes one world-frame force and torque on the UAV body (``data.xfrc_applied``),
+held in between; the base is never
 teleported, so arm motion and contacts disturb it. The loops:
 
 * position: a cascaded P (position → bounded velocity) and P (velocity → acceleration) loop,
@@ -67,7 +68,7 @@ class GustConfig(Frozen):
 
 
 class UavController:
-    """Holds the UAV at a position and heading by writing ``xfrc_applied`` every physics step.
+    """Holds the UAV at a position and heading by writing ``xfrc_applied`` (module doc).
 
     Args:
         model: Compiled model containing the aerial manipulator.
