@@ -23,6 +23,7 @@ from vlm_bench.executor.skills.hand import Hand
 from vlm_bench.executor.skills.scripted_skills import default_skills
 from vlm_bench.executor.step_execution import PlanExecution
 from vlm_bench.sim import constants as c
+from vlm_bench.sim.objects import free_joint_name
 from vlm_bench.sim.objects.bounds import object_bounds
 from vlm_bench.sim.robot import arm_qpos
 from vlm_bench.sim.scene import build_scene
@@ -163,6 +164,28 @@ def test_a_cleanser_held_by_its_cap_comes_up_in_the_hand() -> None:
         assert outcome.status == "ok", outcome.reason
     assert loop.held == "cleanser"
     assert Hand(loop).touching_fingers("cleanser")
+
+
+def test_a_cup_closed_on_across_its_body_comes_up_without_spinning() -> None:
+    """pick_left_cup_red seed 0: as the raise carried the cup, it slid 9 mm across the pads,
+    and a pad's edge reached the line where it touched the cup's round (cylinder) collider;
+    a contact normal turned along the pad's width and spun the cup to 71 rad/s (or to 27 rad/s,
+    the cup 10 um elsewhere). The pads now close on the flat faces of the cup's wall."""
+    episode = get_episode("pick_left_cup_red", 0)
+    loop = SimLoop(build_scene(episode))
+    spin = [0.0]
+
+    def watch(lp: SimLoop) -> None:
+        w = lp.data.joint(free_joint_name("red_cup_2")).qvel[3:]
+        spin[0] = max(spin[0], float(np.abs(w).max()))
+
+    loop.observers.append(watch)
+    execution = PlanExecution(episode, loop, default_skills(loop))
+    for i, step in enumerate(episode.gt_plan[:2]):  # fly, pick the cup
+        outcome = execution.step(i, step, episode.gt_plan)
+        assert outcome.status == "ok", outcome.reason
+    assert loop.held == "red_cup_2"
+    assert spin[0] < 5.0  # rad/s
 
 
 def test_a_glide_that_drives_a_joint_onto_its_limit_is_refused() -> None:

@@ -19,12 +19,15 @@ from vlm_bench.sim.objects.builder_kit import (
 )
 from vlm_bench.sim.objects.frames import axis_angle, quat_mul, yaw
 from vlm_bench.sim.objects.meshes import prism
-from vlm_bench.types.base import RGBA
+from vlm_bench.types.base import RGBA, Vec3
 from vlm_bench.types.episode import EpisodeObject
 from vlm_bench.types.world import ObjectKind
 
 WHITE: RGBA = (1.0, 1.0, 1.0, 1.0)
 MUG_WALL = 0.005  # m
+CUP_RIBS = 24  # capsules round a cup's wall, overlapping
+CUP_RIB_R = 0.005  # m
+CUP_FLOOR = 0.006  # m
 
 
 def tilted_ring(
@@ -155,7 +158,11 @@ def build_cup(
 ) -> mujoco.MjsBody:
     """A tapered cup without a handle: a frustum with ridges and a pale opening.
 
-    The frustum is a drawn mesh; four hidden stacked cylinders collide.
+    The frustum is a drawn mesh; what collides is hidden: a floor and a ring of overlapping
+    capsules along the frustum's slant, their outer envelope the frustum. Fingers closing
+    across the cup press on round ribs, whose contacts with a pad MuJoCo computes exactly
+    wherever the cup slides across it (a pad's edge on a cylinder can get a normal along the
+    pad's width: docs/decisions.md).
     """
     kit = object_kit(spec, parent, obj, kind, GRIP)
     r_top, h = min(kind.size[:2]) / 2, kind.size[2]
@@ -163,11 +170,16 @@ def build_cup(
     verts = prism(28, r_bot, r_top, h)
     volume = math.pi * h / 3 * (r_top**2 + r_top * r_bot + r_bot**2)
     kit.mesh("shell", verts, volume, rgba, solid=False)
-    steps = 4
-    for i in range(steps):
-        r = r_bot + (r_top - r_bot) * (i + 0.5) / steps
-        pos = (0.0, 0.0, h * (i + 0.5) / steps)
-        kit.hide(kit.cylinder(f"collider{i}", r, h / steps / 2, pos, rgba))
+    rib = CUP_RIB_R
+    kit.hide(kit.cylinder("floor", r_bot - rib, CUP_FLOOR / 2, (0.0, 0.0, CUP_FLOOR / 2), rgba))
+
+    def rib_axis(z: float, az: float) -> Vec3:  # a rib's axis lies its radius inside the slant
+        r = r_bot + (r_top - r_bot) * z / h - rib
+        return (r * math.cos(az), r * math.sin(az), z)
+
+    for i in range(CUP_RIBS):
+        az = 2 * math.pi * i / CUP_RIBS
+        kit.hide(kit.rod(f"rib{i}", rib_axis(rib, az), rib_axis(h - rib, az), rib, rgba))
     for i, frac in enumerate((0.12, 0.3)):
         r = r_bot + (r_top - r_bot) * frac + 0.0006
         kit.cylinder(f"ridge{i}", r, 0.0012, (0.0, 0.0, h * frac), shade(rgba, 0.8), solid=False)
