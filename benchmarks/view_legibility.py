@@ -11,9 +11,10 @@ plan's ARM steps name, the owners of the parts they name, every movable non-supp
 the shorter side of its pixel bounding box. Episodes are judged by
 :func:`vlm_bench.sim.footprint.legibility_failures` (the criterion is in that module's
 docstring). It also counts, with :mod:`vlm_bench.sim.view_checks`, the supports under task
-objects that show their top in a view, those that show their top and full height, and the
-label tags that cover a task object's pixels; it exits 1 when an episode fails the criterion,
-a support's top is shown in no view, or a tag covers a task object. Episodes are the
+objects that show their top in a view, those that show their top and full height down to the
+floor, and the label tags that cover a task object's pixels; it exits 1 when an episode fails
+the criterion, a support's top or full height is shown in no view, or a tag covers a task
+object. Episodes are the
 materialised GT's. Prints the minima per view, the smallest objects by kind, the worst ten
 episodes and the wall time; ``--out`` writes one JSON line per episode as it finishes.
 """
@@ -49,8 +50,8 @@ def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     from vlm_bench.sim.scene import build_scene
     from vlm_bench.sim.view_checks import (
         label_overlaps,
+        support_heights,
         support_tops,
-        support_visibility,
         view_segmentations,
     )
 
@@ -64,7 +65,7 @@ def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     row = measured.to_json()
     segs = view_segmentations(scene, _RENDERER, size)
     row["support_tops"] = support_tops(scene, _RENDERER, size, segs=segs)
-    row["supports"] = support_visibility(scene, _RENDERER, size, segs=segs)
+    row["support_heights"] = support_heights(scene, _RENDERER, size, segs=segs)
     row["label_overlaps"] = label_overlaps(scene, _RENDERER, size, segs=segs)
     kinds = {o.id: o.kind for o in episode.objects}
     row["suite"] = episode.suite.value
@@ -136,13 +137,18 @@ def summarise(rows: list[dict[str, Any]], wall: float, workers: int) -> None:
     )
     for row in hidden[:10]:
         print(f"  {row['task']} seed {row['seed']}: {row['support_tops']}")
-    supports = [any(views.values()) for r in rows for views in r["supports"].values()]
-    blind_eps = [r for r in rows if not all(any(v.values()) for v in r["supports"].values())]
+    heights = [any(views.values()) for r in rows for views in r["support_heights"].values()]
+    short = [r for r in rows if not all(any(v.values()) for v in r["support_heights"].values())]
     print(
-        f"height supports showing top and full height in a view: {sum(supports)} of "
-        f"{len(supports)}; episodes with every one shown: {len(rows) - len(blind_eps)} of "
+        f"height supports showing top and full height in a view: {sum(heights)} of "
+        f"{len(heights)}; episodes with every one shown: {len(rows) - len(short)} of "
         f"{len(rows)}"
     )
+    for view in VIEWS:
+        count = sum(v[view] for r in rows for v in r["support_heights"].values())
+        print(f"  shown in the {view} view: {count}")
+    for row in short[:10]:
+        print(f"  {row['task']} seed {row['seed']}: {row['support_heights']}")
     covered = [r for r in rows if r["label_overlaps"]]
     print(f"episodes where a label covers a task object: {len(covered)} of {len(rows)}")
     for row in covered[:10]:
@@ -191,8 +197,13 @@ def main() -> None:
         if sink is not None:
             sink.close()
     summarise(rows, time.perf_counter() - t0, args.workers)
-    tops_hidden = any(not any(v.values()) for r in rows for v in r["support_tops"].values())
-    sys.exit(1 if tops_hidden or any(r["failures"] or r["label_overlaps"] for r in rows) else 0)
+    unseen = any(
+        not any(v.values())
+        for r in rows
+        for key in ("support_tops", "support_heights")
+        for v in r[key].values()
+    )
+    sys.exit(1 if unseen or any(r["failures"] or r["label_overlaps"] for r in rows) else 0)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
-"""The views an episode is shown with (vlm_bench.sim.legible_views): the standard framing where
-it is legible, else a close-up that still frames the whole work area."""
+"""The legible views (vlm_bench.sim.legible_views): the standard framing where it is legible,
+else a close-up that still frames the whole work area."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from vlm_bench.episodes.layout import place_objects
 from vlm_bench.sim.cameras import SIDE_MIN_ARROW, heading_arrow_ends, third_person_views
 from vlm_bench.sim.constants import CAM_SIDE
 from vlm_bench.sim.framing import image_span
+from vlm_bench.sim.height_views import shown_views
 from vlm_bench.sim.legible_views import legible_views
-from vlm_bench.sim.scene import build_spec
 from vlm_bench.sim.view_sizes import frame_problem, legibility_score, object_pixel_sizes
 from vlm_bench.types.episode import Episode
 
@@ -43,21 +43,11 @@ def test_a_close_up_enlarges_the_least_legible_object_and_frames_the_work_area()
     assert image_span(side.pos, side.forward, side.fovy, *heading_arrow_ends(ep)) >= SIDE_MIN_ARROW
 
 
-def test_the_scene_and_the_recorded_sizes_use_the_shown_views() -> None:
-    ep = _episode("function_detergent", 0)
-    shown = legible_views(ep)
-    spec = build_spec(ep)
-    side = next(cam for cam in spec.cameras if cam.name == CAM_SIDE)
-    assert side.fovy == shown[CAM_SIDE].fovy
-    assert list(side.pos) == shown[CAM_SIDE].pos.tolist()
-    assert ep.object_px == object_pixel_sizes(ep, views=shown)
-
-
 def test_a_seed_0_short_in_the_close_up_too_gets_another_start_and_keeps_its_objects() -> None:
     """target_color_yellow seed 0's canonical start left a 5 cm cube at half the bound even in
     the close-up; a later start is legible in the views it is shown with."""
     task = get_task("target_color_yellow")
     ep = _episode(task.id, 0)
     assert legibility_score(ep, ep.object_px) >= 1.0
-    assert ep.object_px == object_pixel_sizes(ep, views=legible_views(ep))
+    assert ep.object_px == object_pixel_sizes(ep, views=shown_views(ep))
     assert list(ep.objects) == place_objects(task, None)

@@ -30,6 +30,7 @@ from vlm_bench.episodes.start import (
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
 from vlm_bench.sim.cameras import third_person_views
+from vlm_bench.sim.height_views import shown_views
 from vlm_bench.sim.legible_views import legible_views
 from vlm_bench.sim.view_sizes import (
     frame_problem,
@@ -118,7 +119,9 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
     :data:`LEGIBLE_TRIES`, then the most legible is kept; seed 0 keeps its first). A kept
     episode still under the bound in the views it is shown with (the close-up,
     :mod:`vlm_bench.sim.legible_views`) is redrawn further, judged in those views: the next
-    :data:`LEGIBLE_TRIES` layouts, the first legible one or else the most legible kept.
+    :data:`LEGIBLE_TRIES` layouts, the first legible one or else the most legible kept. The
+    sizes it records are those of the views it is shown with
+    (:func:`~vlm_bench.sim.height_views.shown_views`), which keep its legibility.
     """
     if isinstance(task, str):
         task = get_task(task)
@@ -148,7 +151,8 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
         score, episode = _shown(*candidate)
         if score > shown[0]:
             shown = (score, episode)
-    return shown[1]
+    kept = shown[1]
+    return kept.model_copy(update={"object_px": object_pixel_sizes(kept, views=shown_views(kept))})
 
 
 def _candidates(

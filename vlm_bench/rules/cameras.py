@@ -1,8 +1,9 @@
 """The third-person cameras' fixed angles: the one source for the cameras and the prompt.
 
-:mod:`vlm_bench.sim.cameras` and :mod:`vlm_bench.sim.legible_views` place the ``overhead`` and
-``side`` cameras with these angles; the system prompt describes the cameras with the same
-numbers (:func:`camera_numbers`), so a model can correct for their perspective.
+:mod:`vlm_bench.sim.cameras`, :mod:`vlm_bench.sim.legible_views` and
+:mod:`vlm_bench.sim.height_views` place the ``overhead`` and ``side`` cameras with these
+angles; the system prompt describes the cameras with the same numbers (:func:`camera_numbers`),
+so a model can correct for their perspective.
 """
 
 from __future__ import annotations
@@ -29,6 +30,9 @@ CLOSE_SIDE_ELEVATIONS = (28.0, 40.0, 55.0)
 """deg: the close-up side camera's candidate elevations."""
 CLOSE_SIDE_FOVYS = (40.0, 55.0, 70.0, 85.0)
 """deg: the close-up side camera's candidate fields of view."""
+HEIGHT_SIDE_ELEVATIONS = (15.0, 20.0)
+"""deg: lower elevations the side camera may also take to show a table down to the floor
+(a view from lower down frames a table's legs at less cost to the objects' sizes)."""
 
 
 class CameraNumbers(Frozen):
@@ -43,6 +47,9 @@ class CameraNumbers(Frozen):
     side_fovy: float = Field(description="Side: vertical field of view (deg).")
     close_side_pitches: tuple[float, ...] = Field(description="Close-up side's elevations (deg).")
     close_side_fovys: tuple[float, ...] = Field(description="Close-up side's fields of view.")
+    height_side_pitches: tuple[float, ...] = Field(
+        description="Lower elevations (deg) the side may take to show a table to the floor."
+    )
 
 
 @cache
@@ -58,4 +65,5 @@ def camera_numbers() -> CameraNumbers:
         side_fovy=SIDE_FOVY,
         close_side_pitches=CLOSE_SIDE_ELEVATIONS,
         close_side_fovys=CLOSE_SIDE_FOVYS,
+        height_side_pitches=HEIGHT_SIDE_ELEVATIONS,
     )

@@ -1,5 +1,7 @@
-"""The third-person views an episode is shown with: the standard framing, or a close-up where
-the standard one leaves a task object under its least size.
+"""The legible third-person views: the standard framing, or a close-up where the standard one
+leaves a task object under its least size. The views an episode is shown with are these, with
+the side camera moved where they cut a table's legs off (:mod:`vlm_bench.sim.height_views`,
+which reuses the close-up's side candidates).
 
 The standard framing (:func:`~vlm_bench.sim.cameras.third_person_views`) is what the episode
 generator judges layouts by, so the close-up never changes which layout an episode keeps. An
@@ -22,7 +24,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from functools import lru_cache
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -51,18 +52,15 @@ from vlm_bench.sim.cameras import (
     third_person_views,
 )
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE, DEFAULT_IMAGE_SIZE
-from vlm_bench.sim.framing import fits, image_span, occluded, view_xyaxes
+from vlm_bench.sim.framing import fits, image_span, occluded
 from vlm_bench.sim.view_sizes import (
     hidden_from_above,
-    legibility_score,
+    object_legibility,
     object_pixel_sizes,
     view_legibility,
 )
 from vlm_bench.types.base import FloatArray as Vec
 from vlm_bench.types.episode import Episode
-
-if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
-    import mujoco
 
 CLOSE_SIDE_AZIMUTH_STEP = 20.0  # deg, round the whole circle from the preferred azimuth
 HEADROOM = 1.25  # the geometric estimate may be this far above a rendered size
@@ -80,7 +78,7 @@ def _joined(overhead: dict[str, float], side: dict[str, float]) -> Sizes:
     return {oid: {CAM_OVERHEAD: px, CAM_SIDE: side[oid]} for oid, px in overhead.items()}
 
 
-def _hiding(episode: Episode) -> Callable[[Vec], set[str]]:
+def hiding(episode: Episode) -> Callable[[Vec], set[str]]:
     """A function from a camera position to the ids of the framed objects the robot or
     another object may hide from it (:func:`~vlm_bench.sim.framing.occluded`,
     :func:`hidden_by_objects_each`)."""
@@ -99,25 +97,70 @@ def _hiding(episode: Episode) -> Callable[[Vec], set[str]]:
     return may_hide
 
 
-def _side_options(episode: Episode, half_room: float) -> list[tuple[set[str], CameraView]]:
-    """Close-up side cameras that frame the work area and show the heading arrow, each with
-    the framed objects that may be hidden from it."""
+Framing = Callable[[Vec], list[tuple[Vec, Vec]]]
+"""A function from a side camera's viewing direction to the sets of points, each with its
+margins (m), that a candidate looking that way frames besides the work area."""
+
+
+def side_directions(
+    episode: Episode, elevations: tuple[float, ...] = CLOSE_SIDE_ELEVATIONS
+) -> list[Vec]:
+    """The close-up side cameras' viewing directions: every :data:`CLOSE_SIDE_AZIMUTH_STEP`
+    round the circle from the preferred azimuth, at each of ``elevations`` (deg)."""
+    preferred = preferred_side_azimuth(episode)
+    return [
+        side_forward(preferred + float(azimuth), elevation)
+        for azimuth in np.arange(0.0, 360.0, CLOSE_SIDE_AZIMUTH_STEP)
+        for elevation in elevations
+    ]
+
+
+def side_options(
+    episode: Episode,
+    half_room: float,
+    extra: Framing | None = None,
+    elevations: tuple[float, ...] = CLOSE_SIDE_ELEVATIONS,
+) -> list[tuple[set[str], CameraView]]:
+    """Close-up side cameras (:func:`side_directions` at ``elevations``, each of
+    :data:`~vlm_bench.rules.cameras.CLOSE_SIDE_FOVYS`) that frame the work area and show the
+    heading arrow, each with the framed objects that may be hidden from it. ``extra``: more
+    candidates per direction, each also framing one set of points it gives."""
     points, margins = framing_points(episode)
     tail, tip = heading_arrow_ends(episode)
-    preferred = preferred_side_azimuth(episode)
-    may_hide = _hiding(episode)
+    may_hide = hiding(episode)
     out = []
-    for azimuth in np.arange(0.0, 360.0, CLOSE_SIDE_AZIMUTH_STEP):
-        for elevation in CLOSE_SIDE_ELEVATIONS:
-            forward = side_forward(preferred + float(azimuth), elevation)
-            for fovy in CLOSE_SIDE_FOVYS:
-                pos, wide = place_camera(forward, fovy, points, margins, half_room)
-                if not fits(pos, forward, wide, points, margins):
+    for forward in side_directions(episode, elevations):
+        framings = [(points, margins)]
+        framings += [
+            (np.concatenate([points, more]), np.concatenate([margins, grown]))
+            for more, grown in (extra(forward) if extra is not None else [])
+        ]
+        for fovy in CLOSE_SIDE_FOVYS:
+            for framed, framed_margins in framings:
+                pos, wide = place_camera(forward, fovy, framed, framed_margins, half_room)
+                if not fits(pos, forward, wide, framed, framed_margins):
                     continue
                 if image_span(pos, forward, wide, tail, tip) < SIDE_MIN_ARROW:
                     continue
                 out.append((may_hide(pos), CameraView(pos, forward, wide)))
     return out
+
+
+def side_legibility(
+    episode: Episode, overhead: CameraView
+) -> Callable[[CameraView, set[str]], dict[str, float]]:
+    """A function from a side camera and the objects ``hidden`` from it (they count as 0 px
+    there) to each task object's :func:`~vlm_bench.sim.view_sizes.object_legibility` with it
+    and ``overhead``."""
+    from_above = _sizes(episode, CAM_OVERHEAD, overhead)
+    covered = hidden_from_above(episode, {CAM_OVERHEAD: overhead})
+
+    def ratios(side: CameraView, hidden: set[str]) -> dict[str, float]:
+        sizes = _sizes(episode, CAM_SIDE, side)
+        beside = {k: 0.0 if k in hidden else px for k, px in sizes.items()}
+        return object_legibility(episode, _joined(from_above, beside), covered)
+
+    return ratios
 
 
 def close_up_views(episode: Episode) -> dict[str, CameraView] | None:
@@ -130,14 +173,10 @@ def close_up_views(episode: Episode) -> dict[str, CameraView] | None:
     if not fits(pos, forward, fovy, points, margins):
         pos, fovy = place_camera(forward, OVERHEAD_FOVY, points, margins, half_room)
     overhead = CameraView(pos, forward, fovy)
-    from_above = _sizes(episode, CAM_OVERHEAD, overhead)
-    covered = hidden_from_above(episode, {CAM_OVERHEAD: overhead})
+    legibility = side_legibility(episode, overhead)
     best: tuple[tuple[float, int, float], CameraView] | None = None
-    for hidden, side in _side_options(episode, half_room):
-        beside = {
-            k: 0.0 if k in hidden else px for k, px in _sizes(episode, CAM_SIDE, side).items()
-        }
-        score = legibility_score(episode, _joined(from_above, beside), covered)
+    for hidden, side in side_options(episode, half_room):
+        score = min(legibility(side, hidden).values(), default=float("inf"))
         key = (min(score, HEADROOM), -len(hidden), score)
         if best is None or key > best[0]:
             best = (key, side)
@@ -145,16 +184,16 @@ def close_up_views(episode: Episode) -> dict[str, CameraView] | None:
 
 
 def legible_views(episode: Episode) -> dict[str, CameraView]:
-    """The views the episode is shown with: the standard framing, or the close-up where that
-    leaves a task object under its least size and the close-up shows it larger."""
+    """The legible views: the standard framing, or the close-up where that leaves a task object
+    under its least size and the close-up shows it larger."""
     views = third_person_views(episode)
     if view_legibility(episode, views) >= 1.0:
         return views
-    return _shown_views(episode.model_dump_json(exclude={"object_px"}))
+    return _legible_views(episode.model_dump_json(exclude={"object_px"}))
 
 
 @lru_cache(maxsize=256)  # a scene is built many times per episode; the search takes ~0.3 s
-def _shown_views(episode_json: str) -> dict[str, CameraView]:
+def _legible_views(episode_json: str) -> dict[str, CameraView]:
     episode = Episode.model_validate_json(episode_json)
     views = third_person_views(episode)
     score = view_legibility(episode, views)
@@ -163,11 +202,3 @@ def _shown_views(episode_json: str) -> dict[str, CameraView]:
         return views
     closer = view_legibility(episode, close)
     return close if closer > score else views
-
-
-def add_third_person_cameras(spec: mujoco.MjSpec, episode: Episode) -> None:
-    """Add the ``overhead`` and ``side`` cameras of :func:`legible_views`."""
-    for name, view in legible_views(episode).items():
-        spec.worldbody.add_camera(
-            name=name, pos=view.pos.tolist(), xyaxes=view_xyaxes(view.forward), fovy=view.fovy
-        )

@@ -10,7 +10,7 @@ import mujoco
 from vlm_bench.catalog.world_catalog import environment
 from vlm_bench.sim.constants import ARM_OBSERVE, GRIPPER_OPEN, PHYSICS_DT, SLEEP
 from vlm_bench.sim.environment import add_environment
-from vlm_bench.sim.legible_views import add_third_person_cameras
+from vlm_bench.sim.height_views import add_third_person_cameras
 from vlm_bench.sim.objects import add_object, apply_initial_state
 from vlm_bench.sim.robot import add_aerial_manipulator, set_arm_qpos, set_arm_targets
 from vlm_bench.sim.uav_control import GustConfig, UavController

@@ -11,10 +11,18 @@ All three work on segmentation renders
   least :data:`MIN_TOP_PIXELS` of them) show the support or what stands on it, not something
   in front of it. A table is wider than the tight framing of the work area, so its far corners
   may lie out of frame.
-* :func:`support_visibility`: whether each height support shows its top and its full height in
-  a view: all eight corners of its box project inside the image, and its seen pixels span at
-  least :data:`MIN_HEIGHT_SHARE` of the rows its box spans there (not hidden behind other
-  things).
+* :func:`support_heights`: whether each height support shows its top and its full height in a
+  view, from its top down to the floor, so a model can judge how high it stands: its top is
+  seen (as :func:`support_tops` judges it) and one vertical edge of the support at the bottom
+  of its stack (:mod:`vlm_bench.sim.support_edges`: from a top corner down to the floor) is
+  shown whole: the camera sees the edge from the side
+  (:meth:`~vlm_bench.sim.support_edges.HeightEdge.seen_from`), the top corner and the floor
+  point at the middle of its column (where a table's leg stands) project inside the image, at
+  least :data:`~vlm_bench.sim.support_edges.MIN_EDGE_PX` rows apart, and, not hidden behind
+  other things, the column shows that support off its projected top face (its top's side,
+  apron, legs) in at least :data:`MIN_HEIGHT_SHARE` of the rows between them, and its
+  standing parts (:func:`standing_parts`: legs, a body) in as many of the lower half of those
+  rows, so it is seen to stand on the floor.
 * :func:`label_overlaps`: the set-of-marks tags (placed as
   :func:`~vlm_bench.sim.snapshot_render.label_tags` and :func:`~vlm_bench.sim.labels.tag_layout`
   place them) that cover a task object's seen pixels.
@@ -28,41 +36,32 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from vlm_bench.catalog.world_catalog import object_kind
-from vlm_bench.sim.cameras import plan_references, task_objects
+from vlm_bench.sim.cameras import task_objects
 from vlm_bench.sim.constants import DEFAULT_IMAGE_SIZE, THIRD_PERSON_CAMERAS
 from vlm_bench.sim.labels import project_points, tag_layout
 from vlm_bench.sim.objects.bounds import subtree_geoms
 from vlm_bench.sim.render import GeomIdImage, SnapshotRenderer
 from vlm_bench.sim.scene import Scene
 from vlm_bench.sim.snapshot_render import box_corners, label_tags
+from vlm_bench.sim.support_edges import (
+    MIN_EDGE_PX,
+    floor_support,
+    height_edges,
+    height_supports,
+)
 from vlm_bench.types.episode import Episode, EpisodeObject
 
 MIN_HEIGHT_SHARE = 0.8
-"""Least share of a support's projected rows that its seen pixels must span."""
+"""Least share of an edge's projected rows in which its column shows the support (off its top
+face), and of the lower half of them in which it shows its standing parts."""
+STANDING_REACH = 0.5
+"""Share of a support's height: its parts whose bottom lies this low are its standing parts."""
 MIN_TOP_SHARE = 0.5
 """Least share of a support's projected top face that it, or what stands on it, must show."""
 MIN_TOP_PIXELS = 50
 """Least area of a support's top face in the image (px at the checked size): about the square
 of the legibility bound of the smallest objects (6-7 px), so a lidar that receives a camera
 module counts when its top shows whole."""
-
-
-def height_supports(episode: Episode) -> tuple[str, ...]:
-    """Ids of the supports whose height a plan's vertical moves depend on: every support under
-    a task object (down to the floor) and every support the plan names (a place destination)."""
-    by_id = {o.id: o for o in episode.objects}
-    wanted: list[str] = []
-    referenced = plan_references(episode)
-    for oid in task_objects(episode):
-        on = by_id[oid].on
-        while on in by_id:
-            if on not in wanted and object_kind(by_id[on].kind).support:
-                wanted.append(on)
-            on = by_id[on].on
-    for oid in referenced:
-        if oid in by_id and oid not in wanted and object_kind(by_id[oid].kind).support:
-            wanted.append(oid)
-    return tuple(o.id for o in episode.objects if o.id in wanted)
 
 
 def view_segmentations(
@@ -99,6 +98,32 @@ def _top_seen(seg: GeomIdImage, quad: np.ndarray, corners_in: np.ndarray, geoms:
     return total >= MIN_TOP_PIXELS and shown >= MIN_TOP_SHARE * total
 
 
+def _hull_mask(points: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """Pixels inside the convex hull of image ``points`` (N × 2, in front of the camera)."""
+    pts = sorted({(float(u), float(v)) for u, v in points})
+
+    def half(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        out: list[tuple[float, float]] = []
+        for p in seq:
+            while (
+                len(out) >= 2
+                and (
+                    (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                    - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])
+                )
+                <= 0
+            ):
+                out.pop()
+            out.append(p)
+        return out[:-1]
+
+    hull = half(pts) + half(pts[::-1])
+    height, width = shape
+    mask = Image.new("1", (width, height), 0)
+    ImageDraw.Draw(mask).polygon(hull or pts, fill=1)
+    return np.asarray(mask, dtype=bool)
+
+
 def _per_support(
     scene: Scene,
     segs: dict[str, GeomIdImage],
@@ -132,7 +157,22 @@ def support_tops(
     return _per_support(scene, segs or view_segmentations(scene, renderer, size, views), seen)
 
 
-def support_visibility(
+def standing_parts(scene: Scene, support: EpisodeObject) -> list[int]:
+    """Geom ids of ``support``'s standing parts: those that reach down into the lower
+    :data:`STANDING_REACH` of its height (a table's legs, a stove's body; not a table's top
+    or apron)."""
+    model, data = scene.model, scene.data
+    reach = support.pos[2] + STANDING_REACH * object_kind(support.kind).size[2]
+    out = []
+    for geom in subtree_geoms(model, support.id):
+        rot = data.geom_xmat[geom].reshape(3, 3)
+        centre, half = model.geom_aabb[geom][:3], model.geom_aabb[geom][3:]
+        if (data.geom_xpos[geom] + rot @ centre)[2] - np.abs(rot[2]) @ half <= reach:
+            out.append(geom)
+    return out
+
+
+def support_heights(
     scene: Scene,
     renderer: SnapshotRenderer,
     size: int = DEFAULT_IMAGE_SIZE,
@@ -140,18 +180,36 @@ def support_visibility(
     segs: dict[str, GeomIdImage] | None = None,
 ) -> dict[str, dict[str, bool]]:
     """For each height support (:func:`height_supports`), whether each view shows its top and
-    full height (module doc)."""
+    its full height down to the floor (module doc)."""
+    model, data = scene.model, scene.data
+    segs = segs or view_segmentations(scene, renderer, size, views)
+    tops = support_tops(scene, renderer, size, views, segs)
 
     def seen(support: EpisodeObject, seg: GeomIdImage, view: str) -> bool:
-        geoms = subtree_geoms(scene.model, support.id)
-        corners = box_corners(support)
-        pix, inside = project_points(scene.model, scene.data, view, corners, size, size)
-        rows = np.nonzero(np.isin(seg, geoms).any(axis=1))[0]
-        span = float(pix[:, 1].max() - pix[:, 1].min()) if inside.all() else 0.0
-        shown = float(rows.max() - rows.min() + 1) if rows.size else 0.0
-        return bool(inside.all() and shown >= MIN_HEIGHT_SHARE * span)
+        if not tops[support.id][view]:
+            return False
+        base = floor_support(scene.episode, support.id)
+        top = project_points(model, data, view, box_corners(base)[[1, 3, 7, 5]], size, size)[0]
+        sides = np.isin(seg, subtree_geoms(model, base.id)) & ~_hull_mask(top, seg.shape)
+        standing = np.isin(seg, standing_parts(scene, base))
+        camera = data.cam_xpos[model.camera(view).id]
+        for edge in height_edges(base):
+            ends = np.stack([edge.top, edge.axis[0]])
+            pix, inside = project_points(model, data, view, ends, size, size)
+            if not (inside.all() and edge.seen_from(camera)):
+                continue
+            first, last = int(pix[:, 1].min()), int(pix[:, 1].max())
+            if last - first + 1 < MIN_EDGE_PX:
+                continue
+            hull = project_points(model, data, view, edge.column, size, size)[0]
+            column = _hull_mask(hull, seg.shape)[first : last + 1]
+            rows = (sides[first : last + 1] & column).any(axis=1)
+            low = (standing[first : last + 1] & column).any(axis=1)[len(column) // 2 :]
+            if rows.mean() >= MIN_HEIGHT_SHARE and low.mean() >= MIN_HEIGHT_SHARE:
+                return True
+        return False
 
-    return _per_support(scene, segs or view_segmentations(scene, renderer, size, views), seen)
+    return _per_support(scene, segs, seen)
 
 
 def label_overlaps(

@@ -151,26 +151,32 @@ def frame_problem(episode: Episode, views: dict[str, CameraView] | None = None) 
     return None
 
 
+def object_legibility(
+    episode: Episode,
+    sizes: dict[str, dict[str, float]],
+    hidden: frozenset[str] = frozenset(),
+) -> dict[str, float]:
+    """Task object id -> the ratio of its size in its better view (``sizes``:
+    :func:`object_pixel_sizes`) to :func:`min_pixels` times :data:`ESTIMATE_MARGIN`: legible
+    when at least 1. An object in ``hidden`` (:func:`hidden_from_above`) has no overhead view."""
+    kinds = {o.id: o.kind for o in episode.objects}
+    return {
+        oid: max(
+            (px for view, px in by_view.items() if view != CAM_OVERHEAD or oid not in hidden),
+            default=0.0,
+        )
+        / (min_pixels(kinds[oid]) * ESTIMATE_MARGIN)
+        for oid, by_view in sizes.items()
+    }
+
+
 def legibility_score(
     episode: Episode,
     sizes: dict[str, dict[str, float]],
     hidden: frozenset[str] = frozenset(),
 ) -> float:
-    """The least ratio, over task objects, of an object's size in its better view (``sizes``:
-    :func:`object_pixel_sizes`) to :func:`min_pixels` times :data:`ESTIMATE_MARGIN`: legible
-    when at least 1. An object in ``hidden`` (:func:`hidden_from_above`) has no overhead view."""
-    kinds = {o.id: o.kind for o in episode.objects}
-    return min(
-        (
-            max(
-                (px for view, px in by_view.items() if view != CAM_OVERHEAD or oid not in hidden),
-                default=0.0,
-            )
-            / (min_pixels(kinds[oid]) * ESTIMATE_MARGIN)
-            for oid, by_view in sizes.items()
-        ),
-        default=float("inf"),
-    )
+    """The least :func:`object_legibility` over task objects: legible when at least 1."""
+    return min(object_legibility(episode, sizes, hidden).values(), default=float("inf"))
 
 
 def view_legibility(episode: Episode, views: dict[str, CameraView]) -> float:
