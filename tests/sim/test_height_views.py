@@ -4,9 +4,11 @@ side camera moved where they leave a table's full height unseen, never less legi
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from vlm_bench.catalog.gt_episodes import load_materialised
 from vlm_bench.catalog.tasks import get_task
+from vlm_bench.sim import height_views
 from vlm_bench.sim.cameras import (
     SIDE_MIN_ARROW,
     CameraView,
@@ -16,7 +18,7 @@ from vlm_bench.sim.cameras import (
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE
 from vlm_bench.sim.framing import closest_fit, image_span
 from vlm_bench.sim.height_sight import heights_shown
-from vlm_bench.sim.height_views import KEPT_LEGIBILITY, shown_views
+from vlm_bench.sim.height_views import KEPT_LEGIBILITY, camera_poses, shown_views
 from vlm_bench.sim.legible_views import hiding, legible_views, side_legibility
 from vlm_bench.sim.scene import build_spec
 from vlm_bench.sim.support_edges import height_edges
@@ -62,6 +64,28 @@ def test_the_scene_and_the_recorded_sizes_use_the_shown_views() -> None:
     side = next(cam for cam in build_spec(ep).cameras if cam.name == CAM_SIDE)
     assert side.fovy == shown[CAM_SIDE].fovy and list(side.pos) == shown[CAM_SIDE].pos.tolist()
     assert ep.object_px == object_pixel_sizes(ep, views=shown)
+
+
+def test_an_episode_records_its_cameras_and_building_its_scene_searches_nothing(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The committed episode carries the cameras the search chooses, bit for bit; a scene built
+    from it (every execution builds one) reads them and runs no search; an episode without
+    them (an older file) gets them searched."""
+    ep = _episode("pick_left_cup_red", 1)
+    searched = shown_views(ep.model_copy(update={"cameras": {}}))
+    assert ep.cameras == camera_poses(searched)
+    assert set(ep.cameras) == {CAM_OVERHEAD, CAM_SIDE}
+
+    def no_search(_: str) -> None:
+        raise AssertionError("camera search run for an episode that records its cameras")
+
+    monkeypatch.setattr(height_views, "_shown_views", no_search)
+    side = next(cam for cam in build_spec(ep).cameras if cam.name == CAM_SIDE)
+    assert list(side.pos) == searched[CAM_SIDE].pos.tolist()
+    assert side.fovy == searched[CAM_SIDE].fovy
+    with pytest.raises(AssertionError, match="camera search"):
+        build_spec(ep.model_copy(update={"cameras": {}}))
 
 
 def test_a_leg_is_predicted_shown_from_the_side_not_from_above_nor_behind_cabinets() -> None:

@@ -30,7 +30,7 @@ from vlm_bench.episodes.start import (
 from vlm_bench.errors import ConfigError, EpisodeGenerationError
 from vlm_bench.rules import wrap_deg
 from vlm_bench.sim.cameras import third_person_views
-from vlm_bench.sim.height_views import shown_views
+from vlm_bench.sim.height_views import camera_poses, shown_views
 from vlm_bench.sim.legible_views import legible_views
 from vlm_bench.sim.view_sizes import (
     frame_problem,
@@ -121,7 +121,8 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
     :mod:`vlm_bench.sim.legible_views`) is redrawn further, judged in those views: the next
     :data:`LEGIBLE_TRIES` layouts, the first legible one or else the most legible kept. The
     sizes it records are those of the views it is shown with
-    (:func:`~vlm_bench.sim.height_views.shown_views`), which keep its legibility.
+    (:func:`~vlm_bench.sim.height_views.shown_views`), which keep its legibility, and it
+    records those views' cameras (``Episode.cameras``), which the scene builder then reads.
     """
     if isinstance(task, str):
         task = get_task(task)
@@ -152,7 +153,13 @@ def make_episode(task: TaskSpec | str, seed: int) -> Episode:
         if score > shown[0]:
             shown = (score, episode)
     kept = shown[1]
-    return kept.model_copy(update={"object_px": object_pixel_sizes(kept, views=shown_views(kept))})
+    views = shown_views(kept)
+    return kept.model_copy(
+        update={
+            "object_px": object_pixel_sizes(kept, views=views),
+            "cameras": camera_poses(views),
+        }
+    )
 
 
 def _candidates(

@@ -48,7 +48,7 @@ from vlm_bench.sim.legible_views import (
 from vlm_bench.sim.support_edges import floor_support, height_edges
 from vlm_bench.sim.view_sizes import box_corners
 from vlm_bench.types.base import FloatArray as Vec
-from vlm_bench.types.episode import Episode
+from vlm_bench.types.episode import CameraPose, Episode
 
 if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
     import mujoco
@@ -144,8 +144,27 @@ def full_height_views(episode: Episode, views: dict[str, CameraView]) -> dict[st
 
 
 def shown_views(episode: Episode) -> dict[str, CameraView]:
-    """The views the episode is shown with (module doc)."""
-    return _shown_views(episode.model_dump_json(exclude={"object_px"}))
+    """The views the episode is shown with (module doc): those the generator recorded in
+    ``episode.cameras``, or else chosen here (the search takes ~1 s; executing a plan, which
+    builds the scene but renders nothing, must not pay it)."""
+    if episode.cameras:
+        return {
+            name: CameraView(np.array(cam.pos), np.array(cam.forward), cam.fovy)
+            for name, cam in episode.cameras.items()
+        }
+    return _shown_views(episode.model_dump_json(exclude={"object_px", "cameras"}))
+
+
+def camera_poses(views: dict[str, CameraView]) -> dict[str, CameraPose]:
+    """``views`` as the episode records them (exactly: JSON keeps a float's every bit)."""
+    return {
+        name: CameraPose(
+            pos=tuple(float(x) for x in view.pos),  # type: ignore[arg-type]
+            forward=tuple(float(x) for x in view.forward),  # type: ignore[arg-type]
+            fovy=float(view.fovy),
+        )
+        for name, view in views.items()
+    }
 
 
 @lru_cache(maxsize=256)  # a scene is built many times per episode; the search takes ~1 s

@@ -189,7 +189,7 @@ def legible_views(episode: Episode) -> dict[str, CameraView]:
     views = third_person_views(episode)
     if view_legibility(episode, views) >= 1.0:
         return views
-    return _legible_views(episode.model_dump_json(exclude={"object_px"}))
+    return _legible_views(episode.model_dump_json(exclude={"object_px", "cameras"}))
 
 
 @lru_cache(maxsize=256)  # a scene is built many times per episode; the search takes ~0.3 s

@@ -48,6 +48,14 @@ class Lighting(Frozen):
     intensity: float = Field(description="Multiplier of the key light's diffuse intensity.")
 
 
+class CameraPose(Frozen):
+    """A fixed third-person camera: where it stands, where it looks and how wide."""
+
+    pos: Vec3 = Field(description="Position (m, world).")
+    forward: Vec3 = Field(description="Viewing direction (world).")
+    fovy: float = Field(gt=0.0, lt=180.0, description="Vertical field of view (deg).")
+
+
 class Episode(Frozen):
     """Task × seed: everything needed to build the scene, prompt the model and score a plan."""
 
@@ -69,6 +77,12 @@ class Episode(Frozen):
         default_factory=dict,
         description="Task object id -> third-person view -> its size there at 448² (px), "
         "projected from the geometry (vlm_bench.sim.view_sizes); empty in older files.",
+    )
+    cameras: dict[str, CameraPose] = Field(
+        default_factory=dict,
+        description="Third-person view (overhead, side) -> the camera it is shown from, as the "
+        "generator chose it (vlm_bench.sim.height_views); empty in older files, where the scene "
+        "builder chooses it again.",
     )
 
     def instruction(self, variant: InstructionVariant) -> str:
