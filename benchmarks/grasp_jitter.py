@@ -18,18 +18,17 @@ failures with their reasons, and the angular speeds' maximum per kind.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import time
 from collections import defaultdict
-from multiprocessing import Pool
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 from _machine import machine
+from _pool import pooled_rows
 
 DEFAULT_KINDS = "tomato_can,meat_can,cleanser,lidar"
 
@@ -91,11 +90,6 @@ def _one(job: tuple[str, int, float, tuple[str, ...]]) -> dict[str, object]:
     }
 
 
-def _seeds(text: str) -> list[int]:
-    lo, _, hi = text.partition("-")
-    return list(range(int(lo), int(hi or lo) + 1))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--kinds", default=DEFAULT_KINDS, help="comma-separated object kinds")
@@ -107,6 +101,7 @@ def main() -> None:
     args = parser.parse_args()
 
     from vlm_bench.catalog.tasks import all_tasks
+    from vlm_bench.cli.options import parse_seeds
     from vlm_bench.episodes import get_episode
 
     kinds = set(args.kinds.split(","))
@@ -114,30 +109,21 @@ def main() -> None:
     tasks = args.tasks.split(",") if args.tasks else [t.id for t in all_tasks()]
     jobs: list[tuple[str, int, float, tuple[str, ...]]] = []
     for task in tasks:
-        for seed in _seeds(args.seeds):
+        for seed in parse_seeds(args.seeds):
             ids = tuple(_picked(get_episode(task, seed), kinds))
             if ids:
                 jobs.extend((task, seed, off, ids) for off in offsets)
     print(f"machine: {machine()}")
     print(f"{len(jobs) // len(offsets)} episodes pick {sorted(kinds)}; {len(jobs)} executions")
     t0 = time.perf_counter()
-    rows: list[dict[str, object]] = []
-    sink = args.out.open("w") if args.out else None
-    with Pool(args.workers) as pool:
-        for row in pool.imap_unordered(_one, jobs):
-            rows.append(row)
-            if sink is not None:
-                sink.write(json.dumps(row) + "\n")
-                sink.flush()
-    if sink is not None:
-        sink.close()
+    rows = pooled_rows(_one, jobs, args.workers, args.out)
     failed = [r for r in rows if not r["success"]]
     wall = time.perf_counter() - t0
     print(f"wall time {wall:.0f} s; {len(rows) - len(failed)}/{len(rows)} succeed")
     spins: dict[str, list[float]] = defaultdict(list)
     for r in rows:
-        for i, kind in zip(r["objects"], r["kinds"], strict=True):  # type: ignore[call-overload]
-            spins[kind].append(r["max_spin"][i])  # type: ignore[index]
+        for i, kind in zip(r["objects"], r["kinds"], strict=True):
+            spins[kind].append(r["max_spin"][i])
     print("| kind | executions | highest spin while held (rad/s) | over 5 rad/s |")
     print("|---|---|---|---|")
     for kind, values in sorted(spins.items()):

@@ -15,13 +15,14 @@ import os
 import sys
 import time
 from collections import defaultdict
-from multiprocessing import Pool
 from pathlib import Path
+from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 from _machine import machine
+from _pool import pooled_rows
 
 
 def _one(job: tuple[str, int]) -> dict[str, object]:
@@ -70,19 +71,10 @@ def main() -> None:
         keys = json.loads(args.episodes.read_text())
         jobs = [(k.rsplit(":", 1)[0], int(k.rsplit(":", 1)[1])) for k in keys]
     t0 = time.perf_counter()
-    rows: list[dict[str, object]] = []
-    sink = args.out.open("w") if args.out else None
-    with Pool(args.workers) as pool:
-        for row in pool.imap_unordered(_one, jobs):
-            rows.append(row)
-            if sink is not None:  # one line per finished episode, so a long sweep can be watched
-                sink.write(json.dumps(row) + "\n")
-                sink.flush()
+    rows = pooled_rows(_one, jobs, args.workers, args.out)
     sweep = time.perf_counter() - t0
-    if sink is not None:
-        sink.close()
 
-    by_suite: dict[str, list[dict[str, object]]] = defaultdict(list)
+    by_suite: dict[str, list[dict[str, Any]]] = defaultdict(list)
     for row in rows:
         by_suite[str(row["suite"])].append(row)
     print(f"machine: {machine()}")
@@ -93,17 +85,15 @@ def main() -> None:
     print("| suite | episodes | success | sim s/episode | real-time factor |")
     print("|---|---|---|---|---|")
     for suite, group in sorted(by_suite.items()):
-        sim = sum(float(r["sim_s"]) for r in group)  # type: ignore[arg-type]
-        wall = sum(float(r["wall_s"]) for r in group)  # type: ignore[arg-type]
+        sim = sum(float(r["sim_s"]) for r in group)
+        wall = sum(float(r["wall_s"]) for r in group)
         ok = sum(bool(r["success"]) for r in group)
         print(
             f"| {suite} | {len(group)} | {ok}/{len(group)} | {sim / len(group):.1f} | "
             f"{sim / wall:.1f}x |"
         )
     failures = sorted(
-        (str(r["task"]), int(r["seed"]), str(r["reason"]))  # type: ignore[call-overload]
-        for r in rows
-        if not r["success"]
+        (str(r["task"]), int(r["seed"]), str(r["reason"])) for r in rows if not r["success"]
     )
     if failures:
         print(f"\nfailures ({len(failures)}):")

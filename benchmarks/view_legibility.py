@@ -22,13 +22,10 @@ episodes and the wall time; ``--out`` writes one JSON line per episode as it fin
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import time
 from collections import defaultdict
-from collections.abc import Iterator
-from multiprocessing import Pool
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 from _machine import machine
+from _pool import pooled_rows
 
 _RENDERER: Any = None
 VIEWS = ("overhead", "side")
@@ -177,25 +175,8 @@ def main() -> None:
 
     tasks = args.tasks.split(",") if args.tasks else [t.id for t in all_tasks()]
     jobs = [(t, s, args.size) for s in _seeds(args.seeds) for t in tasks]
-    rows: list[dict[str, Any]] = []
-    sink = args.out.open("w") if args.out else None
     t0 = time.perf_counter()
-    pool = Pool(args.workers) if args.workers > 1 else None
-    results: Iterator[dict[str, Any]] = (
-        pool.imap_unordered(_one, jobs) if pool is not None else map(_one, jobs)
-    )
-    try:
-        for row in results:
-            rows.append(row)
-            if sink is not None:
-                sink.write(json.dumps(row) + "\n")
-                sink.flush()
-    finally:
-        if pool is not None:
-            pool.close()
-            pool.join()
-        if sink is not None:
-            sink.close()
+    rows = pooled_rows(_one, jobs, args.workers, args.out)
     summarise(rows, time.perf_counter() - t0, args.workers)
     unseen = any(
         not any(v.values())
