@@ -11,6 +11,7 @@ would stand outside the room gets a wider field of view, which brings it closer.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -157,6 +158,15 @@ class SightLines:
     may_hide: NDArray[np.bool_]  # (2K, M)
 
 
+def object_boxes(objects: Sequence[EpisodeObject]) -> tuple[Vec, Vec, Vec]:
+    """Centres (M, 3), half sizes (M, 3) and yaws (M, deg) of ``objects``' catalogue boxes,
+    as :func:`~vlm_bench.sim.framing.segment_hits_boxes` takes them."""
+    sizes = np.array([object_kind(o.kind).size for o in objects], dtype=np.float64).reshape(-1, 3)
+    centres = np.array([o.pos for o in objects], dtype=np.float64).reshape(-1, 3)
+    centres[:, 2] += sizes[:, 2] / 2
+    return centres, sizes / 2, np.array([o.yaw_deg for o in objects], dtype=np.float64)
+
+
 def sight_lines(episode: Episode) -> SightLines:
     """The :class:`SightLines` of the episode's framed objects (:func:`is_framed_object`)."""
     on = {o.id: o.on for o in episode.objects}
@@ -168,9 +178,7 @@ def sight_lines(episode: Episode) -> SightLines:
             found.add(oid)
         return found
 
-    sizes = np.array([object_kind(o.kind).size for o in episode.objects], dtype=np.float64)
-    centres = np.array([o.pos for o in episode.objects], dtype=np.float64)
-    centres[:, 2] += sizes[:, 2] / 2
+    centres, halves, yaws = object_boxes(episode.objects)
     referenced = plan_references(episode)
     sights, may_hide = [], []
     for k, obj in enumerate(episode.objects):
@@ -180,15 +188,15 @@ def sight_lines(episode: Episode) -> SightLines:
             other.id != obj.id and other.id not in below(obj.id) and obj.id not in below(other.id)
             for other in episode.objects
         ]
-        for lift in (0.0, sizes[k, 2] / 2):
+        for lift in (0.0, halves[k, 2]):
             sights.append(centres[k] + np.array([0.0, 0.0, lift]))
             may_hide.append(row)
     n = len(episode.objects)
     return SightLines(
         sights=np.array(sights, dtype=np.float64).reshape(-1, 3),
         centres=centres,
-        halves=sizes / 2,
-        yaws=np.array([o.yaw_deg for o in episode.objects], dtype=np.float64),
+        halves=halves,
+        yaws=yaws,
         may_hide=np.array(may_hide, dtype=bool).reshape(-1, n),
     )
 

@@ -12,12 +12,12 @@ line at :data:`EDGE_SIGHTS`, nor the support's own top on those up to
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable
 
 import numpy as np
 
 from vlm_bench.catalog.world_catalog import object_kind
-from vlm_bench.sim.cameras import CameraView, robot_spheres
+from vlm_bench.sim.cameras import CameraView, object_boxes, robot_spheres
 from vlm_bench.sim.constants import DEFAULT_IMAGE_SIZE
 from vlm_bench.sim.framing import fits, segment_hits_boxes
 from vlm_bench.sim.support_edges import (
@@ -45,26 +45,17 @@ TOP_SLAB = 0.01
 """m: thickness of the slab that stands for a support's own top on the sight lines."""
 
 
-def _boxes(rows: Sequence[tuple[float, ...]]) -> tuple[Vec, Vec, Vec]:
-    """Centres, half sizes and yaws of boxes given as (x, y, z, hx, hy, hz, yaw) rows."""
-    table = np.array(rows, dtype=np.float64).reshape(-1, 7)
-    return table[:, :3], table[:, 3:6], table[:, 6]
-
-
 class _Sight:
     """What may stand between a camera and a floor support's legs: the other objects' boxes,
     the robot's spheres, and the support's own top (as a slab :data:`TOP_SLAB` thick)."""
 
     def __init__(self, episode: Episode, base: str) -> None:
-        others, top = [], []
-        for obj in episode.objects:
-            sx, sy, sz = object_kind(obj.kind).size
-            x, y, z = obj.pos
-            if obj.id == base:
-                top.append((x, y, z + sz - TOP_SLAB / 2, sx / 2, sy / 2, TOP_SLAB / 2, obj.yaw_deg))
-            else:
-                others.append((x, y, z + sz / 2, sx / 2, sy / 2, sz / 2, obj.yaw_deg))
-        self.others, self.top = _boxes(others), _boxes(top)
+        self.others = object_boxes([o for o in episode.objects if o.id != base])
+        own = [o for o in episode.objects if o.id == base]
+        centres, halves, yaws = object_boxes(own)
+        centres[:, 2] = [o.pos[2] + object_kind(o.kind).size[2] - TOP_SLAB / 2 for o in own]
+        halves[:, 2] = TOP_SLAB / 2
+        self.top = centres, halves, yaws
         self.spheres, self.radii = robot_spheres(episode)
 
     def clear(self, pos: Vec, points: Vec) -> bool:
@@ -111,14 +102,25 @@ def heights_shown(episode: Episode, views: dict[str, CameraView]) -> dict[str, b
     """For each height support (:func:`~vlm_bench.sim.support_edges.height_supports`), whether
     one of ``views`` frames its top and shows an edge of its floor support whole (module
     doc)."""
+    return height_check(episode)(views)
+
+
+def height_check(episode: Episode) -> Callable[[dict[str, CameraView]], dict[str, bool]]:
+    """:func:`heights_shown` for ``episode``, its supports' edges and sight lines made once (a
+    camera search asks it of many views)."""
     by_id = {o.id: o for o in episode.objects}
-    out = {}
+    targets = []
     for sid in height_supports(episode):
         base = floor_support(episode, sid)
-        sight, corners = _Sight(episode, base.id), box_corners(by_id[sid])
-        out[sid] = any(
-            top_framed(view, corners)
-            and any(edge_shown(view, e, sight) for e in height_edges(base))
-            for view in views.values()
-        )
-    return out
+        targets.append((sid, box_corners(by_id[sid]), height_edges(base), _Sight(episode, base.id)))
+
+    def shown(views: dict[str, CameraView]) -> dict[str, bool]:
+        return {
+            sid: any(
+                top_framed(view, corners) and any(edge_shown(view, e, sight) for e in edges)
+                for view in views.values()
+            )
+            for sid, corners, edges, sight in targets
+        }
+
+    return shown

@@ -36,7 +36,7 @@ from vlm_bench.rules.cameras import CLOSE_SIDE_ELEVATIONS, HEIGHT_SIDE_ELEVATION
 from vlm_bench.sim.cameras import WALL_CLEARANCE, CameraView, heading_arrow_ends
 from vlm_bench.sim.constants import CAM_OVERHEAD, CAM_SIDE
 from vlm_bench.sim.framing import view_xyaxes
-from vlm_bench.sim.height_sight import EDGE_MARGIN, heights_shown, top_framed
+from vlm_bench.sim.height_sight import EDGE_MARGIN, height_check, top_framed
 from vlm_bench.sim.legible_views import (
     HEADROOM,
     Framing,
@@ -48,6 +48,7 @@ from vlm_bench.sim.legible_views import (
 from vlm_bench.sim.support_edges import floor_support, height_edges
 from vlm_bench.sim.view_sizes import box_corners
 from vlm_bench.types.base import FloatArray as Vec
+from vlm_bench.types.base import Vec3
 from vlm_bench.types.episode import CameraPose, Episode
 
 if TYPE_CHECKING:  # the camera geometry imports no simulator: episodes are judged by it
@@ -68,11 +69,12 @@ def _edge_framing(episode: Episode, bases: list[str]) -> Framing:
     edge alone, and, for several bases, one edge of each together (the edge farthest along the
     view, which moves the camera back least)."""
     by_id = {o.id: o for o in episode.objects}
+    edges = {bid: height_edges(by_id[bid]) for bid in bases}
 
     def framing(forward: Vec) -> list[tuple[Vec, Vec]]:
         sets, farthest = [], []
         for bid in bases:
-            facing = [e for e in height_edges(by_id[bid]) if e.faces(e.top - 100.0 * forward)]
+            facing = [e for e in edges[bid] if e.faces(e.top - 100.0 * forward)]
             ends = [np.stack([e.top, e.axis[0]]) for e in facing]
             sets += ends
             if ends:
@@ -109,7 +111,8 @@ def _above_arrow(episode: Episode, pos: Vec) -> bool:
 def full_height_views(episode: Episode, views: dict[str, CameraView]) -> dict[str, CameraView]:
     """``views`` (the legible views), or with the side camera the module doc chooses where they
     leave a height support's full height unseen."""
-    shown = heights_shown(episode, views)
+    heights_shown = height_check(episode)
+    shown = heights_shown(views)
     if all(shown.values()):
         return views
     overhead, current = views[CAM_OVERHEAD], views[CAM_SIDE]
@@ -133,7 +136,7 @@ def full_height_views(episode: Episode, views: dict[str, CameraView]) -> dict[st
             top_framed(overhead, top) or top_framed(side, top) for top in tops
         ):
             continue
-        count = sum(heights_shown(episode, {CAM_OVERHEAD: overhead, CAM_SIDE: side}).values())
+        count = sum(heights_shown({CAM_OVERHEAD: overhead, CAM_SIDE: side}).values())
         score = min(ratios.values(), default=float("inf"))
         key = (count, -len(hidden), min(score, HEADROOM), score)
         if best is None or key > best[0]:
@@ -158,13 +161,13 @@ def shown_views(episode: Episode) -> dict[str, CameraView]:
 def camera_poses(views: dict[str, CameraView]) -> dict[str, CameraPose]:
     """``views`` as the episode records them (exactly: JSON keeps a float's every bit)."""
     return {
-        name: CameraPose(
-            pos=tuple(float(x) for x in view.pos),  # type: ignore[arg-type]
-            forward=tuple(float(x) for x in view.forward),  # type: ignore[arg-type]
-            fovy=float(view.fovy),
-        )
+        name: CameraPose(pos=_vec3(view.pos), forward=_vec3(view.forward), fovy=float(view.fovy))
         for name, view in views.items()
     }
+
+
+def _vec3(v: Vec) -> Vec3:
+    return float(v[0]), float(v[1]), float(v[2])
 
 
 @lru_cache(maxsize=256)  # a scene is built many times per episode; the search takes ~1 s
