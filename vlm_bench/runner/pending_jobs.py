@@ -100,8 +100,12 @@ class PendingJobs(Generic[O, J, R]):
         while broken:
             self._resend(broken)
             broken = [p for p in broken if broken_future(p.future)]
-        done = [p for p in self.items if p.future.done()]
-        still = [p for p in self.items if not p.future.done()]
+        # One read of each future's state: a worker finishing between two reads would leave
+        # its job in neither list, and its episode in flight for ever.
+        done: list[Pending[O, J, R]] = []
+        still: list[Pending[O, J, R]] = []
+        for p in self.items:
+            (done if p.future.done() else still).append(p)
         now = time.monotonic()
         if done:
             self._last_progress = now
