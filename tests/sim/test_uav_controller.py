@@ -1,7 +1,8 @@
 """The UAV controller's per-step arithmetic (scalar, for speed) computes the control law as
 written in vector form: cascaded P position loops with an integral, bounded; the lift through
 the subtree's centre of mass; PD attitude scaled by the rotational inertia; the weight that
-gravcomp hides from the base; and the gusts on top."""
+gravcomp hides from the base; and the gusts on top. At its rate (every few physics steps) it
+updates the force at the first step of each period and holds it for the others."""
 
 from __future__ import annotations
 
@@ -55,8 +56,8 @@ def test_scalar_controller_matches_the_vector_law(gust: GustConfig | None) -> No
     episode = get_episode("standard_pick_place", 0)
     scene = episode_scene(episode, ExecutorConfig())
     model, data = scene.model, scene.data
-    ctl = UavController(model, data, gust=gust)
-    shadow = UavController(model, data, gust=gust)  # draws the same gusts
+    ctl = UavController(model, data, gust=gust, every=1)
+    shadow = UavController(model, data, gust=gust, every=1)  # draws the same gusts
     rng = np.random.default_rng(1)
     integral = np.zeros(3)
     near = 0
@@ -78,3 +79,27 @@ def test_scalar_controller_matches_the_vector_law(gust: GustConfig | None) -> No
         near += bool(np.any(expected[6:] != integral))
         integral = expected[6:]
     assert near > 10  # the integral branch ran
+
+
+def test_force_updated_at_the_controller_rate_and_held_between() -> None:
+    episode = get_episode("standard_pick_place", 0)
+    scene = episode_scene(episode, ExecutorConfig())
+    model, data = scene.model, scene.data
+    ctl = UavController(model, data, every=5)
+    ref = UavController(model, data, every=1)  # the same law, applied only at ctl's updates
+    ref._dt = ctl._dt
+    ref._set_gains()
+    held = np.zeros(6)
+    for step in range(20):
+        mujoco.mj_step(model, data)
+        ctl.set_setpoint(data.qpos[ctl._qpos : ctl._qpos + 3] + 0.05 * (step + 1), 10.0)
+        ctl.apply(data)
+        now = np.array(data.xfrc_applied[ctl.body])
+        if step % 5 == 0:
+            ref.set_setpoint(ctl.setpoint, 10.0)
+            ref.apply(data)
+            np.testing.assert_array_equal(data.xfrc_applied[ctl.body], now)
+            assert not np.array_equal(now, held)  # a new force
+            held = now
+        else:
+            np.testing.assert_array_equal(now, held)  # held, though the setpoint moved

@@ -1,4 +1,4 @@
-"""The simulation loop: physics at 500 Hz with the UAV controller every step, control at 20 Hz.
+"""The simulation loop: physics at 400 Hz, the UAV controller at 200 Hz, control at 20 Hz.
 
 Skills drive the robot through :meth:`SimLoop.control_step`: they set servo targets and the UAV
 setpoint, then advance one control period. The loop watches for numerical blow-ups (the only
@@ -79,7 +79,7 @@ class SimLoop:
 
     # ---- stepping ---------------------------------------------------------------------
     def physics_step(self) -> None:
-        """One 2 ms physics step with the UAV controller applied."""
+        """One physics step (``PHYSICS_DT``) with the UAV controller applied."""
         self.controller.apply(self.data)
         mujoco.mj_step(self.model, self.data)
         self._record_contacts()

@@ -2,14 +2,22 @@
 
 from __future__ import annotations
 
-# Timing (docs/design.md#executor): physics at 500 Hz, control at 20 Hz.
-PHYSICS_DT = 0.002
+# Timing (docs/design.md#executor): physics at 400 Hz, the UAV controller at 200 Hz, control
+# at 20 Hz.
+PHYSICS_DT = 0.0025
+"""s: the physics step, the largest that keeps every contact as stiff as specified: MuJoCo
+clamps a contact's time constant to at least two steps, and the finger pads' is 5 ms
+(``sim/panda.py``). At 3.125 ms the pads soften and a held cup slips out
+(docs/decisions.md, "Simulation speed")."""
 SLEEP = True
 """MuJoCo's sleeping islands: bodies at rest (objects on tables) stop being simulated until
 something touches them, ~2-3x fewer contacts and a faster step (the robot, actuated, stays
 awake). Validated by the oracle sweep (see docs/performance.md)."""
 CONTROL_DT = 0.05
 STEPS_PER_CONTROL = round(CONTROL_DT / PHYSICS_DT)
+UAV_CONTROL_EVERY = 2
+"""Physics steps per update of the UAV controller (200 Hz; its force is held in between).
+At 100 Hz a push fell short (docs/decisions.md, "Simulation speed")."""
 
 # UAV.
 UAV_BODY = "uav"

@@ -31,8 +31,9 @@ def add_aerial_manipulator(spec: mujoco.MjSpec, start: UavPose) -> None:
 
     Also sets two scene-wide solver options the robot needs: the ``implicitfast`` integrator (the
     arm's stiff servos, kv up to 450 N·m·s/rad on 0.1 kg·m² armature, are unstable with explicit
-    Euler at 2 ms) and elliptic friction cones with ``impratio`` 10 (with the default pyramidal
-    cones a held 0.3 kg cube creeps out of the fingers at ~2 mm/s; with these, ~0.1 mm/s).
+    Euler at the physics step) and elliptic friction cones with ``impratio`` 10 (with the default
+    pyramidal cones a held 0.3 kg cube creeps out of the fingers at ~2 mm/s; with these,
+    ~0.1 mm/s).
 
     Args:
         spec: Scene spec to add the robot to.

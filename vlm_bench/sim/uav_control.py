@@ -1,7 +1,8 @@
 """Position and attitude controller that holds the floating UAV base at a setpoint.
 
-The UAV is abstracted as a fully actuated rigid body: every physics step the controller writes
-one world-frame force and torque on the UAV body (``data.xfrc_applied``); the base is never
+The UAV is abstracted as a fully actuated rigid body: every ``UAV_CONTROL_EVERY`` physics steps
+the controller writes one world-frame force and torque on the UAV body (``data.xfrc_applied``),
+held in between; the base is never
 teleported, so arm motion and contacts disturb it. The loops:
 
 * position: a cascaded P (position → bounded velocity) and P (velocity → acceleration) loop,
@@ -67,13 +68,16 @@ class GustConfig(Frozen):
 
 
 class UavController:
-    """Holds the UAV at a position and heading by writing ``xfrc_applied`` every physics step.
+    """Holds the UAV at a position and heading by writing ``xfrc_applied`` (module doc).
 
     Args:
         model: Compiled model containing the aerial manipulator.
         data: Its data (only read here; :meth:`apply` takes the data to write).
         gains: Gains and limits.
         gust: Optional random wind.
+        every: Physics steps per update (:data:`~vlm_bench.sim.constants.UAV_CONTROL_EVERY`):
+            :meth:`apply`, called every step, computes the force at the first of each
+            ``every`` calls and leaves it in ``data`` for the others.
     """
 
     def __init__(
@@ -82,8 +86,11 @@ class UavController:
         data: mujoco.MjData,
         gains: UavGains | None = None,
         gust: GustConfig | None = None,
+        every: int = c.UAV_CONTROL_EVERY,
     ) -> None:
         self.model = model
+        self.every = every
+        self._tick = 0
         self.gains = gains or UavGains()
         self.gust = gust
         self.body = int(model.body(c.UAV_BODY).id)
@@ -93,7 +100,7 @@ class UavController:
         self._rot_diag = np.array([_diag_index(model, self._dof + 3 + k) for k in range(3)])
         self.mass = float(model.body_subtreemass[self.body])
         self._grav = tuple(float(x) for x in model.opt.gravity)
-        self._dt = float(model.opt.timestep)
+        self._dt = float(model.opt.timestep) * every  # the controller's period
         # Bodies under the base whose weight gravcomp hides from it.
         subtree = robot_body_ids(model)
         self._comp_bodies = np.array([b for b in subtree if model.body_gravcomp[b] > 0], dtype=int)
@@ -121,6 +128,7 @@ class UavController:
     def reset(self) -> None:
         """Clear the integral term and the gust state (restart the gust sequence)."""
         self._integral = (0.0, 0.0, 0.0)
+        self._tick = 0
         self._gust_state[:] = 0.0
         self._gust_rng = np.random.default_rng(self.gust.seed if self.gust else 0)
 
@@ -129,7 +137,11 @@ class UavController:
 
         Runs at every physics step, so it works on Python floats over views of ``data``
         made once per data (numpy calls on 3-vectors cost ~1 µs each: 5× slower), with the
-        gains read once into a tuple."""
+        gains read once into a tuple. Between updates (``every``) the force stays as written."""
+        tick = self._tick
+        self._tick = tick + 1 if tick + 1 < self.every else 0
+        if tick:
+            return
         v = self._data_views
         if v is None or v.data is not data:
             v = self._views(data)

@@ -67,13 +67,17 @@ class ArmCore:
         q_to: FloatArray,
         query: CollisionQuery,
         limit: float = math.inf,
+        end_first: bool = False,
     ) -> int:
         """Contacts along the joint-space move ``q_from`` → ``q_to`` (sampled every
         :data:`PATH_STEP` rad of the widest joint swing or :data:`PATH_TRAVEL` m of the TCP's
         travel, whichever is closer, the end included) for ``query``, counted as
-        :meth:`hits_at` counts them."""
+        :meth:`hits_at` counts them. ``end_first``: the same samples checked from the end
+        back, for a move whose end lies near the scene (a reach down to an object): a path
+        over ``limit`` is then found over it after fewer checks, and one within it sums the
+        same contacts either way."""
         samples = self.joint_samples(q_from, q_to, query.base, query.clearance)
-        return self.hits_at(samples, query, limit)
+        return self.hits_at(reversed(samples) if end_first else samples, query, limit)
 
     def joint_samples(
         self,

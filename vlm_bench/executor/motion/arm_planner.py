@@ -172,7 +172,7 @@ class ArmPlanner:
         hits = turning + int(margin < MIN_MARGIN) + int(carried is not None and widest > HELD_SWING)
         swing = round(widest / SWING_BIN)
         # Contacts are counted last and only as far as they can still beat the best plan.
-        hits += self.core.path_hits(now, q_start, way_in, limit=best_key[0] - hits)
+        hits += self.core.path_hits(now, q_start, way_in, limit=best_key[0] - hits, end_first=True)
         if hits and (hits, 0.0, swing, -margin) >= best_key:
             return None  # the way down only adds contacts: it cannot do better
         final = self._final_way(target, rot, q_start, q_end, shift)

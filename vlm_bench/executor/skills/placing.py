@@ -10,6 +10,7 @@ import numpy as np
 from vlm_bench.executor.motion.arm_planner import Reach
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import CollisionQuery
+from vlm_bench.executor.motion.flight_clearance import FLIGHT_CLEARANCE
 from vlm_bench.executor.motion.ik import top_down_rotation
 from vlm_bench.executor.motion.joint_moves import HELD_JOINT_SPEED, hold_with_gripper, joint_move
 from vlm_bench.executor.skills.carry_raise import raise_to_carry
@@ -197,7 +198,7 @@ class Placer:
             return done
         travel = drop.above - hand.tcp()[0]
         down = self.ways.descent(drop, BaseMove(travel))
-        if down is not None and hand.flight.flight_clear(travel):
+        if down is not None and hand.flight.flight_clear(travel, clearance=FLIGHT_CLEARANCE):
             hand.shift_base(BaseMove(travel))
             # Planned again where the UAV settled: the hover is never exact.
             way = self.ways.descent(drop, BaseMove.still()) or down
