@@ -17,7 +17,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vlm_bench.executor.motion.base_move import BaseMove
-from vlm_bench.executor.motion.contact_filter import contact_hits, robot_only_collisions, robot_side
+from vlm_bench.executor.motion.contact_filter import (
+    HELD,
+    contact_hits,
+    robot_only_collisions,
+    robot_side,
+)
 from vlm_bench.sim.constants import ARM_JOINTS, FINGER_JOINTS, TCP_SITE, UAV_FREEJOINT
 from vlm_bench.sim.robot import robot_geom_ids
 from vlm_bench.types.base import FloatArray
@@ -195,8 +200,8 @@ class CollisionChecker:
         """The model collision checks with ``clearance`` and ``carried`` in the hand run on: a
         copy of the scene's model (made once per clearance and held object) that cannot report
         a pair of world geoms (see :func:`robot_only_collisions`), where the held object's
-        geoms collide as the robot's do, and whose geoms all have ``clearance`` (m) as collision
-        margin where it is positive."""
+        geoms collide with the world's (not with the hand holding it: :data:`HELD`), and whose
+        geoms all have ``clearance`` (m) as collision margin where it is positive."""
         held = frozenset() if carried is None else carried.frozen_geoms
         key = (clearance, held)
         check = self._checkers.get(key)
@@ -206,7 +211,7 @@ class CollisionChecker:
             ids = np.fromiter(held, dtype=np.int64, count=len(held))
             own[ids] = True
             if robot_only_collisions(model, self._robot_mask):
-                robot_side(model, ids)
+                robot_side(model, ids, HELD)
             if clearance > 0.0:
                 model.geom_margin[:] = np.maximum(model.geom_margin, clearance)
             check = self._checkers[key] = _Checker(model, mujoco.MjData(model), own.tolist())

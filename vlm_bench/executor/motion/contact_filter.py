@@ -11,6 +11,10 @@ WORLD = (2, 1)
 """(contype, conaffinity) of a world geom in a collision-check model: no world pair collides."""
 ROBOT = (1, 3)
 """(contype, conaffinity) of a robot geom there: it collides with the world and itself."""
+HELD = (0, 2)
+"""(contype, conaffinity) of a held object's geom there: it collides with the world only. Its
+contacts with the fingers holding it (two in three of a check's contacts while one is held)
+would never be hits (:func:`contact_hits`), so they are not made."""
 
 
 def robot_only_collisions(model: mujoco.MjModel, robot: NDArray[np.bool_]) -> bool:
@@ -28,10 +32,13 @@ def robot_only_collisions(model: mujoco.MjModel, robot: NDArray[np.bool_]) -> bo
     return True
 
 
-def robot_side(model: mujoco.MjModel, geoms: NDArray[np.int64]) -> None:
-    """Make ``geoms`` (colliding ones) collide as the robot's (its own, a held object's)."""
+def robot_side(
+    model: mujoco.MjModel, geoms: NDArray[np.int64], masks: tuple[int, int] = ROBOT
+) -> None:
+    """Give ``geoms`` (colliding ones) the collision ``masks`` of the robot's side: the robot's
+    own (:data:`ROBOT`) or a held object's (:data:`HELD`)."""
     solid = geoms[(model.geom_contype[geoms] | model.geom_conaffinity[geoms]) != 0]
-    model.geom_contype[solid], model.geom_conaffinity[solid] = ROBOT
+    model.geom_contype[solid], model.geom_conaffinity[solid] = masks
 
 
 def contact_hits(
