@@ -85,7 +85,7 @@ class SimLoop:
         self._record_contacts()
 
     def control_step(self) -> None:
-        """Advance one 50 ms control period (:meth:`physics_step` 25 times, its calls looked up
+        """Advance one 50 ms control period (:meth:`physics_step` 20 times, its calls looked up
         once); raises :class:`SimulatorUnstable` on blow-up and :class:`SimBudgetSpent` past
         the deadline."""
         apply, step, record = self.controller.apply, mujoco.mj_step, self._record_contacts
