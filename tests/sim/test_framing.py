@@ -47,6 +47,22 @@ def test_closest_fit_sees_everything_and_cannot_come_closer(
     assert not fits(pos + 0.01 * forward, forward, fovy, points, margins)
 
 
+@settings(max_examples=200, deadline=None)
+@given(forward=arrays(np.float64, 3, elements=coords).filter(lambda v: np.linalg.norm(v) > 1e-3))
+def test_view_axes_are_orthonormal_image_up_highest_and_cached_unchanged(
+    forward: np.ndarray,
+) -> None:
+    first = view_xyaxes(forward)
+    right, up = np.array(first[:3]), np.array(first[3:])
+    unit = forward / np.linalg.norm(forward)
+    np.testing.assert_allclose([right @ right, up @ up, right @ up], [1.0, 1.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose([right @ unit, up @ unit], [0.0, 0.0], atol=1e-9)
+    if abs(unit[2]) < 0.999:  # image right level, image up towards world +z
+        assert abs(right[2]) < 1e-9 and up[2] >= 0.0
+    first[0] += 1.0  # a caller changing its copy does not change what the cache answers
+    assert view_xyaxes(forward.copy()) == [right[0], *first[1:]]
+
+
 def test_fit_matches_the_rendered_projection() -> None:
     """A point on the fitted frustum's edge projects onto the image border."""
     forward = np.array([0.0, 0.3, -1.0])

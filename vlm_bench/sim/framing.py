@@ -6,6 +6,7 @@ square image; its axes follow :func:`view_xyaxes` (image up as close to world +z
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -24,6 +25,14 @@ def _cross(a: Vec, b: Vec) -> Vec:
 
 def view_xyaxes(forward: Vec) -> list[float]:
     """MuJoCo ``xyaxes`` (image right, image up) of a camera looking along ``forward``."""
+    return list(_xyaxes(np.asarray(forward, dtype=np.float64).tobytes()))
+
+
+@functools.lru_cache(maxsize=4096)
+def _xyaxes(forward_bytes: bytes) -> tuple[float, ...]:
+    """:func:`view_xyaxes` of a direction given as its float64 bytes: a camera search asks
+    for the same few candidate directions hundreds of times (cached, the same floats)."""
+    forward = np.frombuffer(forward_bytes, dtype=np.float64)
     forward = forward / np.linalg.norm(forward)
     up_hint = np.array([0.0, 0.0, 1.0])
     if abs(float(forward @ up_hint)) > 0.999:  # looking straight down: pick +y as image up
@@ -31,12 +40,23 @@ def view_xyaxes(forward: Vec) -> list[float]:
     right = _cross(forward, up_hint)
     right /= np.linalg.norm(right)
     up = _cross(right, forward)
-    return [*right.tolist(), *up.tolist()]
+    return (*right.tolist(), *up.tolist())
 
 
 def _axes(forward: Vec) -> tuple[Vec, Vec, Vec]:
-    xy = np.array(view_xyaxes(forward)).reshape(2, 3)
-    return xy[0], xy[1], forward / np.linalg.norm(forward)
+    """Image right, image up and the unit viewing direction of a camera looking along
+    ``forward`` (read-only arrays, cached per direction)."""
+    return _axes_of(np.asarray(forward, dtype=np.float64).tobytes())
+
+
+@functools.lru_cache(maxsize=4096)
+def _axes_of(forward_bytes: bytes) -> tuple[Vec, Vec, Vec]:
+    forward = np.frombuffer(forward_bytes, dtype=np.float64)
+    xy = np.array(_xyaxes(forward_bytes)).reshape(2, 3)
+    axes = (xy[0], xy[1], forward / np.linalg.norm(forward))
+    for axis in axes:
+        axis.flags.writeable = False
+    return axes
 
 
 def fits(pos: Vec, forward: Vec, fovy: float, points: Vec, margins: Vec) -> bool:
