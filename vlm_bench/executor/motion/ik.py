@@ -37,9 +37,9 @@ POS_TOL = 0.004  # m
 ROT_TOL = 0.03  # rad
 DT = 0.1  # s, integration step of mink's velocity solution
 DAMPING = 1e-3  # Levenberg-Marquardt damping of every dof
-STALL_AFTER = 30
+STALL_AFTER = 20
 """Iterations a solve always gets before it may give up where it stalls."""
-STALL_WINDOW = 15
+STALL_WINDOW = 10
 STALL_GAIN = 0.05
 """A solve stalls when its lowest residual fell by less than this fraction in the last
 :data:`STALL_WINDOW` iterations: most iterations go to solves that never converge, and the
