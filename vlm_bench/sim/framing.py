@@ -25,22 +25,8 @@ def _cross(a: Vec, b: Vec) -> Vec:
 
 def view_xyaxes(forward: Vec) -> list[float]:
     """MuJoCo ``xyaxes`` (image right, image up) of a camera looking along ``forward``."""
-    return list(_xyaxes(np.asarray(forward, dtype=np.float64).tobytes()))
-
-
-@functools.lru_cache(maxsize=4096)
-def _xyaxes(forward_bytes: bytes) -> tuple[float, ...]:
-    """:func:`view_xyaxes` of a direction given as its float64 bytes: a camera search asks
-    for the same few candidate directions hundreds of times (cached, the same floats)."""
-    forward = np.frombuffer(forward_bytes, dtype=np.float64)
-    forward = forward / np.linalg.norm(forward)
-    up_hint = np.array([0.0, 0.0, 1.0])
-    if abs(float(forward @ up_hint)) > 0.999:  # looking straight down: pick +y as image up
-        up_hint = np.array([0.0, 1.0, 0.0])
-    right = _cross(forward, up_hint)
-    right /= np.linalg.norm(right)
-    up = _cross(right, forward)
-    return (*right.tolist(), *up.tolist())
+    right, up, _ = _axes(forward)
+    return [*right.tolist(), *up.tolist()]
 
 
 def _axes(forward: Vec) -> tuple[Vec, Vec, Vec]:
@@ -51,12 +37,19 @@ def _axes(forward: Vec) -> tuple[Vec, Vec, Vec]:
 
 @functools.lru_cache(maxsize=4096)
 def _axes_of(forward_bytes: bytes) -> tuple[Vec, Vec, Vec]:
+    """:func:`_axes` of a direction given as its float64 bytes: a camera search asks for the
+    same few candidate directions hundreds of times."""
     forward = np.frombuffer(forward_bytes, dtype=np.float64)
-    xy = np.array(_xyaxes(forward_bytes)).reshape(2, 3)
-    axes = (xy[0], xy[1], forward / np.linalg.norm(forward))
-    for axis in axes:
+    forward = forward / np.linalg.norm(forward)
+    up_hint = np.array([0.0, 0.0, 1.0])
+    if abs(float(forward @ up_hint)) > 0.999:  # looking straight down: pick +y as image up
+        up_hint = np.array([0.0, 1.0, 0.0])
+    right = _cross(forward, up_hint)
+    right /= np.linalg.norm(right)
+    up = _cross(right, forward)
+    for axis in (right, up, forward):
         axis.flags.writeable = False
-    return axes
+    return right, up, forward
 
 
 def fits(pos: Vec, forward: Vec, fovy: float, points: Vec, margins: Vec) -> bool:

@@ -2,8 +2,8 @@
 
 The UAV is abstracted as a fully actuated rigid body: every ``UAV_CONTROL_EVERY`` physics steps
 the controller writes one world-frame force and torque on the UAV body (``data.xfrc_applied``),
-held in between; the base is never
-teleported, so arm motion and contacts disturb it. The loops:
+held in between; the base is never teleported, so arm motion and contacts disturb it. The
+loops:
 
 * position: a cascaded P (position → bounded velocity) and P (velocity → acceleration) loop,
   plus an integral on the position error near the setpoint (absorbs held payloads), with a
