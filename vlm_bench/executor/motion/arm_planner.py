@@ -96,6 +96,7 @@ class ArmPlanner:
         clearance: float = 0.0,
         line: float | None = None,
         turn_room: float = 0.0,
+        max_hits: float = math.inf,
     ) -> Reach | None:
         """The straight TCP motion from ``point + approach`` to ``point``: joint angles at
         both ends, the hand's orientation and the UAV move to make first.
@@ -114,15 +115,17 @@ class ArmPlanner:
         along the postures that line commands (:meth:`ArmLines.line_path`; its last is the
         plan's end): a line can take the arm far off the joint-space blend. With
         ``turn_room`` (rad), a base joint nearer its limit than that at either end counts as
-        a contact: the arm cannot turn further that way for what follows.
+        a contact: the arm cannot turn further that way for what follows. Plans with more
+        than ``max_hits`` contacts are not wanted (``0``: a clear plan or ``None``); their
+        checks stop at the first contact over it.
         """
         now = arm_qpos(self.loop.model, self.loop.data)
         carried = self.core.carried()
         target = _Target(point, approach, ignore, gripper, clearance, line, turn_room, carried)
         held = carried.geoms if carried is not None else set()
-        starts = [np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)]
+        starts = _distinct([np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)])
         best: Reach | None = None
-        best_key = NO_PLAN
+        best_key = (float(max_hits), *NO_PLAN[1:])
         for shift in self.assists(point) if assist is None else assist:
             turning = self.turn_hits(shift, now, held, carried)
             if turning > best_key[0]:
@@ -161,16 +164,27 @@ class ArmPlanner:
         q_end, res = ik.solve(data, target.point, rot, start, base=shift)
         if res > IK_OK:
             return None
+        carried = target.carried
+        down = CollisionQuery.of(target.ignore, target.gripper, shift, carried)
+        room = best_key[0] - turning
+        if (
+            target.line is None
+            and room < math.inf
+            and self.core.hits_at([q_end], down, room) > room
+        ):
+            return None  # the end alone makes more contacts than the best plan: the way down
+            # (a joint-space move, its end included) makes at least as many
         q_start, res = ik.solve(data, target.point + target.approach, rot, q_end, base=shift)
         if res > IK_OK:
             return None
-        carried = target.carried
         held = carried.geoms if carried is not None else set()
         way_in = CollisionQuery.of(held, target.gripper, shift, carried)
         margin = ik.limit_margin(q_start)
         widest = float(np.max(np.abs(q_start - now)))
         hits = turning + int(margin < MIN_MARGIN) + int(carried is not None and widest > HELD_SWING)
         swing = round(widest / SWING_BIN)
+        if hits and (hits, 0.0, swing, -margin) >= best_key:
+            return None  # the ways in and down only add contacts: it cannot do better
         # Contacts are counted last and only as far as they can still beat the best plan.
         hits += self.core.path_hits(now, q_start, way_in, limit=best_key[0] - hits, end_first=True)
         if hits and (hits, 0.0, swing, -margin) >= best_key:
@@ -183,7 +197,6 @@ class ArmPlanner:
             hits += 1
         margin = min(margin, ik.limit_margin(q_end))
         hits += int(min(ik.room(q_start)[0], ik.room(q_end)[0]) < target.turn_room)
-        down = CollisionQuery.of(target.ignore, target.gripper, shift, carried)
         hits += self.core.hits_at(way, down, limit=best_key[0] - hits)
         if hits > best_key[0]:
             return None  # more contacts than the best plan
@@ -284,3 +297,16 @@ class ArmPlanner:
             )
             for k in range(1, n + 1)
         )
+
+
+def _distinct(postures: list[FloatArray]) -> list[FloatArray]:
+    """``postures`` without repeats (the seed is often the posture now or a known one): a
+    repeated start gives the same candidate again."""
+    seen: set[bytes] = set()
+    out = []
+    for q in postures:
+        key = np.asarray(q, np.float64).tobytes()
+        if key not in seen:
+            seen.add(key)
+            out.append(q)
+    return out

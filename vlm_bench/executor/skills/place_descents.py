@@ -52,31 +52,32 @@ class Descents:
     def plan_release(self, episode: Episode, drop: Drop) -> tuple[Reach, Drop] | None:
         """The way down to the release, or, where it is not clear (the hand, 0.2 m long,
         meets a wall or what lies there already) and the object may drop in, to just above
-        the rim, whichever touches less."""
-        loop = self.loop
-        sol = self.plan_top_down(
-            drop.release,
-            drop.above - drop.release,
-            drop.heading,
-            drop.ignore,
-            arm_qpos(loop.model, loop.data),
-            self.drawer_assists(episode, drop.dest, drop.release),
-        )
+        the rim, whichever touches less (the rim's search looks only for ways that do)."""
+        sol = self._top_down_to(episode, drop, drop.release)
         if (sol is None or sol.hits) and can_drop_into(self.hand, episode, drop.held, drop.dest):
             rim = drop.release.copy()
             rim[2] = drop.above[2] - 0.03
-            high = self.plan_top_down(
-                rim,
-                drop.above - rim,
-                drop.heading,
-                drop.ignore,
-                arm_qpos(loop.model, loop.data),
-                self.drawer_assists(episode, drop.dest, rim),
-            )
-            if high is not None and (sol is None or high.hits < sol.hits):
-                sol = high
-                drop = Drop(drop.held, drop.dest, rim, drop.above, drop.heading, drop.ignore)
+            fewer = math.inf if sol is None else sol.hits - 1
+            high = self._top_down_to(episode, drop, rim, fewer)
+            if high is not None:
+                return high, Drop(drop.held, drop.dest, rim, drop.above, drop.heading, drop.ignore)
         return None if sol is None else (sol, drop)
+
+    def _top_down_to(
+        self, episode: Episode, drop: Drop, point: FloatArray, max_hits: float = math.inf
+    ) -> Reach | None:
+        """The way down from above ``drop``'s release to ``point`` (:meth:`plan_top_down`
+        from the arm's posture now, with the drawer's assists), of at most ``max_hits``
+        contacts."""
+        return self.plan_top_down(
+            point,
+            drop.above - point,
+            drop.heading,
+            drop.ignore,
+            arm_qpos(self.loop.model, self.loop.data),
+            self.drawer_assists(episode, drop.dest, point),
+            max_hits=max_hits,
+        )
 
     def descent(self, drop: Drop, base: BaseMove, level: bool = False) -> Reach | None:
         """The clear way down from above the release with the UAV moved by ``base``, starting
@@ -121,14 +122,23 @@ class Descents:
         seed: FloatArray,
         assist: list[BaseMove] | None = None,
         turns: int = 4,
+        max_hits: float = math.inf,
     ) -> Reach | None:
         """The top-down motion from ``point + approach`` down to ``point`` with the object
         held, over the four headings equivalent for a box-like object (the first ``turns``
         of them: 1, ``yaw_rad`` alone), preferring those that keep :data:`PLACE_CLEARANCE`
-        from the rest."""
+        from the rest; of at most ``max_hits`` contacts (:meth:`ArmPlanner.plan`)."""
         rotations = [top_down_rotation(yaw_rad + k * math.pi / 2) for k in range(turns)]
         return self.hand.planner.plan(
-            point, approach, rotations, ignore, GRIPPER_CLOSED, seed, assist, PLACE_CLEARANCE
+            point,
+            approach,
+            rotations,
+            ignore,
+            GRIPPER_CLOSED,
+            seed,
+            assist,
+            PLACE_CLEARANCE,
+            max_hits=max_hits,
         )
 
     def drawer_assists(
