@@ -21,7 +21,7 @@ from vlm_bench.executor.motion.arm_core import IK_OK, MIN_MARGIN, ArmCore
 from vlm_bench.executor.motion.base_move import BaseMove
 from vlm_bench.executor.motion.collision_check import Carried, CollisionQuery
 from vlm_bench.executor.motion.flight_clearance import CLIMBS
-from vlm_bench.executor.motion.ik import SEED_POSTURES
+from vlm_bench.executor.motion.ik import CANDIDATE_STALL, SEED_POSTURES
 from vlm_bench.executor.motion.lines import ArmLines
 from vlm_bench.sim.constants import ARM_BASE_BODY
 from vlm_bench.sim.robot import arm_qpos
@@ -161,7 +161,7 @@ class ArmPlanner:
         its limit strays off the plan), and so does, with an object in the hand, a swing to
         the start wider than :data:`HELD_SWING`."""
         ik, data = self.core.ik, self.loop.data
-        q_end, res = ik.solve(data, target.point, rot, start, base=shift)
+        q_end, res = ik.solve(data, target.point, rot, start, base=shift, stall=CANDIDATE_STALL)
         if res > IK_OK:
             return None
         carried = target.carried
@@ -174,7 +174,9 @@ class ArmPlanner:
         ):
             return None  # the end alone makes more contacts than the best plan: the way down
             # (a joint-space move, its end included) makes at least as many
-        q_start, res = ik.solve(data, target.point + target.approach, rot, q_end, base=shift)
+        q_start, res = ik.solve(
+            data, target.point + target.approach, rot, q_end, base=shift, stall=CANDIDATE_STALL
+        )
         if res > IK_OK:
             return None
         held = carried.geoms if carried is not None else set()

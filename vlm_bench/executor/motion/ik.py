@@ -45,6 +45,12 @@ STALL_GAIN = 0.05
 :data:`STALL_WINDOW` iterations: most iterations go to solves that never converge, and the
 planner's other starts find the rare posture a stalled solve gives up on (measurements:
 ``docs/decisions.md``)."""
+STALL = (STALL_AFTER, STALL_WINDOW)
+"""The stall rule of a solve (iterations before it may stall, the window judged)."""
+CANDIDATE_STALL = (12, 6)
+"""The stall rule of the planner's candidate solves (:class:`ArmPlanner`), which have other
+starts to find what one gives up on: three in four of their iterations went to solves that
+fail (``docs/decisions.md``). A line's steps keep :data:`STALL`: they have no other start."""
 
 
 def _norm(x: FloatArray) -> float:
@@ -53,11 +59,11 @@ def _norm(x: FloatArray) -> float:
     return math.sqrt(float(x.dot(x)))
 
 
-def stalled(best: list[float]) -> bool:
+def stalled(best: list[float], rule: tuple[int, int] = STALL) -> bool:
     """Whether a solve whose lowest residuals so far, per iteration, are ``best`` stalls
-    (see :data:`STALL_GAIN`)."""
-    n = len(best)
-    return n > STALL_AFTER and best[-1] > (1.0 - STALL_GAIN) * best[n - 1 - STALL_WINDOW]
+    under ``rule`` (iterations before it may, window; see :data:`STALL_GAIN`)."""
+    n, (after, window) = len(best), rule
+    return n > after and best[-1] > (1.0 - STALL_GAIN) * best[n - 1 - window]
 
 
 def _arm_model() -> mujoco.MjModel:
@@ -144,6 +150,7 @@ class ArmIk:
         iterations: int = 200,
         base: BaseMove | None = None,
         posture: FloatArray | None = None,
+        stall: tuple[int, int] = STALL,
     ) -> tuple[FloatArray, float]:
         """Joint angles putting the TCP at ``pos`` with orientation ``rotation`` (3×3, world;
         see :func:`top_down_rotation`), with the UAV where it is (or moved by ``base``, m, to
@@ -151,8 +158,8 @@ class ArmIk:
         seed), which picks the branch among the arm's redundant solutions.
 
         Returns the solution and its residual (position error in m plus rotation error in
-        rad); the caller decides whether it is good enough. A solve of more than
-        :data:`STALL_AFTER` iterations gives up where it stalls (:func:`stalled`). The
+        rad); the caller decides whether it is good enough. A solve of more iterations than
+        ``stall`` allows before it may stall gives up where it stalls (:func:`stalled`). The
         planner repeats ~10 % of its solves exactly: those are answered from a cache that
         holds while the UAV does not move.
         """
@@ -163,12 +170,13 @@ class ArmIk:
         arrays = (pos, rotation, seed, posture)
         key = (
             iterations,
+            stall,
             *(None if a is None else np.asarray(a, np.float64).tobytes() for a in arrays),
             None if base is None else base.key(),
         )
         hit = self._solves.get(key)
         if hit is None:
-            hit = self._solve(data, pos, rotation, seed, iterations, base, posture)
+            hit = self._solve(data, pos, rotation, seed, iterations, base, posture, stall)
             self._solves[key] = hit
         return hit[0].copy(), hit[1]
 
@@ -181,6 +189,7 @@ class ArmIk:
         iterations: int,
         base: BaseMove | None,
         posture: FloatArray | None,
+        stall: tuple[int, int] = STALL,
     ) -> tuple[FloatArray, float]:
         """:meth:`solve` computed (no cache)."""
         q0 = np.clip(np.asarray(seed, dtype=np.float64), self.lo, self.hi)
@@ -202,7 +211,7 @@ class ArmIk:
             if e_pos < POS_TOL and e_rot < ROT_TOL:
                 break
             best.append(min(residual, best[-1]) if best else residual)
-            if iterations > STALL_AFTER and stalled(best):
+            if iterations > stall[0] and stalled(best, stall):
                 break
             self.config.integrate_inplace(self.qp.velocity(err, DT), DT)
         q = np.clip(self.config.q[self._r_qadr], self.lo, self.hi)
