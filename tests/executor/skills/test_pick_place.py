@@ -369,9 +369,10 @@ def test_a_planned_move_is_checked_densely_along_the_hand(
 
 @pytest.mark.xfail(
     strict=True,
-    reason="since the 400 Hz physics (dc6bf8f) the executed joint move to the grasp's start "
-    "leaves the checked joint line (the joints lag their min-jerk command by up to 0.05 rad) and "
-    "the left finger catches the basket's back rim, which stays on the hand: the grasp fails",
+    reason="the way to the grasp's start, checked every centimetre of the TCP's travel, still "
+    "passes the left finger through the basket's back rim between two checks (u 0.913 and "
+    "0.9275 of the move; it overlaps the rim over u 0.9167-0.926); at 500 Hz the lifted basket "
+    "fell back, at 400 Hz (dc6bf8f) it stays on the hand and the grasp fails",
 )
 def test_the_densely_checked_pick_beside_the_basket_succeeds() -> None:
     """color_distractor_green seed 2 (the incident's scene): the pick planned with checks every
