@@ -189,7 +189,7 @@ class ArmIk:
         iterations: int,
         base: BaseMove | None,
         posture: FloatArray | None,
-        stall: tuple[int, int] = STALL,
+        stall: tuple[int, int],
     ) -> tuple[FloatArray, float]:
         """:meth:`solve` computed (no cache)."""
         q0 = np.clip(np.asarray(seed, dtype=np.float64), self.lo, self.hi)
