@@ -90,11 +90,6 @@ def _one(job: tuple[str, int, int]) -> dict[str, Any]:
     }
 
 
-def _seeds(text: str) -> list[int]:
-    lo, _, hi = text.partition("-")
-    return list(range(int(lo), int(hi or lo) + 1))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="3", help="seed range, e.g. 0-9")
@@ -105,9 +100,10 @@ def main() -> None:
     args = parser.parse_args()
 
     from vlm_bench.catalog.tasks import all_tasks
+    from vlm_bench.cli.options import parse_seeds
 
     tasks = args.tasks.split(",") if args.tasks else [t.id for t in all_tasks()]
-    jobs = [(t, s, args.dense) for s in _seeds(args.seeds) for t in tasks]
+    jobs = [(t, s, args.dense) for s in parse_seeds(args.seeds) for t in tasks]
     rows = pooled_rows(_one, jobs, args.workers, args.out)
     misses = [(r["task"], r["seed"], m) for r in rows for m in r["missed"]]
     clear = sum(int(r["clear"]) for r in rows)
