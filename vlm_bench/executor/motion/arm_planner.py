@@ -199,6 +199,8 @@ class ArmPlanner:
             hits += 1
         margin = min(margin, ik.limit_margin(q_end))
         hits += int(min(ik.room(q_start)[0], ik.room(q_end)[0]) < target.turn_room)
+        if hits > best_key[0]:
+            return None  # the joint limits alone make more contacts than the best plan
         hits += self.core.hits_at(way, down, limit=best_key[0] - hits)
         if hits > best_key[0]:
             return None  # more contacts than the best plan
