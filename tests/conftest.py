@@ -4,12 +4,14 @@ one-line errors on stderr)."""
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import subprocess
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import pytest
@@ -40,6 +42,16 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
         if item.nodeid in slow and item.get_closest_marker("smoke") is None:
             item.add_marker(pytest.mark.slow)
+
+
+def module_from_file(name: str, path: Path) -> ModuleType:
+    """The Python file at ``path`` executed as a module called ``name`` (not put in
+    ``sys.modules``): a benchmark script, a package's data-folder hook file, another test file."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def run_benchmark(name: str, *args: str, timeout: float = 300) -> str:

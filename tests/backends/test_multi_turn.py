@@ -3,7 +3,6 @@ closed-loop run) and the vLLM request (``llm.chat`` messages)."""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 from types import ModuleType
 
@@ -12,6 +11,7 @@ import pytest
 pytest.importorskip("openai")
 
 import vlm_bench.api as api
+from tests.conftest import module_from_file
 from vlm_bench.backends.messages import openai_messages
 from vlm_bench.types.execution import ExecutionOptions
 from vlm_bench.types.generation import GenerationRequest, ImagePart, TextPart, Turn
@@ -20,12 +20,9 @@ PNG = b"\x89PNG\r\n\x1a\n" + b"fake"
 
 
 def _openai_tests() -> ModuleType:
-    path = Path(__file__).with_name("test_openai_backend.py")
-    spec = importlib.util.spec_from_file_location("_openai_backend_tests", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return module_from_file(
+        "_openai_backend_tests", Path(__file__).with_name("test_openai_backend.py")
+    )
 
 
 FakeServer = _openai_tests().FakeServer

@@ -3,12 +3,11 @@ step over, and the script runs an execution through its audit."""
 
 from __future__ import annotations
 
-import importlib.util
 from types import ModuleType
 
 import pytest
 
-from tests.conftest import ROOT, run_benchmark
+from tests.conftest import ROOT, module_from_file, run_benchmark
 from tests.executor.skills.test_pick_place import _kind, _picker_after_the_flight
 from vlm_bench.executor.motion import arm_core as arm_core_module
 from vlm_bench.executor.motion.collision_check import CollisionQuery
@@ -17,11 +16,7 @@ from vlm_bench.sim.robot import arm_qpos
 
 
 def _audit() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("path_audit", ROOT / "benchmarks/path_audit.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return module_from_file("path_audit", ROOT / "benchmarks/path_audit.py")
 
 
 def test_the_audit_finds_the_rim_between_coarse_checks(monkeypatch: pytest.MonkeyPatch) -> None:

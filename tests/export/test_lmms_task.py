@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
 from types import ModuleType
@@ -14,6 +13,7 @@ import pytest
 import yaml
 
 import vlm_bench
+from tests.conftest import module_from_file
 from vlm_bench.export.dataset_export import DatasetExport
 from vlm_bench.lmms import TASKS_DIR
 from vlm_bench.types.task import Suite
@@ -24,11 +24,7 @@ METRICS = ("s_plan", "s_loc", "s_obj", "s_skill", "s_total", "succ")
 
 def _utils() -> ModuleType:
     """``utils.py`` loaded from its file, as lmms-eval loads a task's functions."""
-    spec = importlib.util.spec_from_file_location("utils", FOLDER / "utils.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return module_from_file("utils", FOLDER / "utils.py")
 
 
 def _load(path: Path) -> dict[str, Any]:

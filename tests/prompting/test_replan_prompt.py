@@ -3,10 +3,10 @@ state now, a hash per round's request; golden snapshot."""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 from types import ModuleType
 
+from tests.conftest import module_from_file
 from vlm_bench.prompting import build_prompt, build_replan_prompt, render_text
 from vlm_bench.types.closed_loop import ExecutedStep, Feedback
 from vlm_bench.types.plan import ArmStep, Direction, UavStep
@@ -15,12 +15,9 @@ from vlm_bench.types.prompt import PromptConfig
 
 def _builder_tests() -> ModuleType:
     """The first prompt's tests (their synthetic episode, images and golden check)."""
-    path = Path(__file__).with_name("test_prompt_builder.py")
-    spec = importlib.util.spec_from_file_location("_prompt_builder_tests", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return module_from_file(
+        "_prompt_builder_tests", Path(__file__).with_name("test_prompt_builder.py")
+    )
 
 
 _shared = _builder_tests()
