@@ -122,11 +122,34 @@ class ArmPlanner:
         now = arm_qpos(self.loop.model, self.loop.data)
         carried = self.core.carried()
         target = _Target(point, approach, ignore, gripper, clearance, line, turn_room, carried)
-        held = carried.geoms if carried is not None else set()
         starts = _distinct([np.asarray(seed), now, *map(np.asarray, SEED_POSTURES)])
+        shifts = self.assists(point) if assist is None else assist
+        search = (target, rotations, starts, shifts, now)
+        if max_hits > 0 and (clear := self._search(*search, 0.0)) is not None:
+            return clear
+        return self._search(*search, max_hits)
+
+    def _search(
+        self,
+        target: _Target,
+        rotations: Sequence[FloatArray],
+        starts: list[FloatArray],
+        shifts: Sequence[BaseMove],
+        now: FloatArray,
+        max_hits: float,
+    ) -> Reach | None:
+        """:meth:`plan`'s search for the best plan of at most ``max_hits`` contacts.
+
+        :meth:`plan` searches twice: first for a clear plan (``max_hits=0``: every check
+        stops at its first contact), then, where there is none, for the best of the rest.
+        The first search finds the plan the second would (a clear candidate is checked the
+        same way whatever the best so far, and ranks before any other), and the second's
+        IK solves and collision checks are mostly the first's, answered from their caches."""
+        carried = target.carried
+        held = carried.geoms if carried is not None else set()
         best: Reach | None = None
         best_key = (float(max_hits), *NO_PLAN[1:])
-        for shift in self.assists(point) if assist is None else assist:
+        for shift in shifts:
             turning = self.turn_hits(shift, now, held, carried)
             if turning > best_key[0]:
                 continue  # every plan with this move makes more contacts than the best

@@ -41,9 +41,11 @@ def raise_to_carry(hand: Hand, rot: FloatArray, gripper: float) -> None:
         return
     held = hand.body_geoms(loop.held) if loop.held is not None else set()
     now = arm_qpos(loop.model, loop.data)
-    sol = hand.planner.plan(goal, np.zeros(3), [rot], held, gripper, now, [BaseMove.still()])
+    sol = hand.planner.plan(
+        goal, np.zeros(3), [rot], held, gripper, now, [BaseMove.still()], max_hits=0
+    )
     narrow = sol is not None and float(np.max(np.abs(sol.q_end - now))) <= RAISE_SWING
-    if sol is not None and sol.hits == 0 and (loop.held is None or narrow):
+    if sol is not None and (loop.held is None or narrow):
         joint_move(loop, sol.q_end, 1.5, gripper, HELD_JOINT_SPEED)
         return
     if loop.held is not None:

@@ -109,32 +109,36 @@ class Picker:
         rot = body.xmat.reshape(3, 3)
         yaw = math.atan2(rot[1, 0], rot[0, 0])
         ignore = self.hand.body_geoms(obj)
-        fallback = None
         com = np.array(body.xipos)
         candidates = grasp_points(kind, np.array(body.xpos), yaw, lo, hi, com)
-        for cand in self.order(candidates) if self.order else candidates:
-            point = (
+        ordered = self.order(candidates) if self.order else candidates
+        points = [
+            (
                 self.on_section(obj, cand.point, cand.rotations[0])
                 if cand.centre_across
-                else cand.point
-            )
-            approach = np.array([0.0, 0.0, PRE_GRASP])
-            sol = self.hand.planner.plan(
-                point,
-                approach,
+                else cand.point,
                 cand.rotations,
-                ignore,
-                GRIPPER_OPEN,
-                np.asarray(TOP_DOWN_SEED),
-                line=GRASP_DESCENT,
-                turn_room=GRASP_TURN_ROOM,
             )
-            if sol is None:
-                continue
-            if sol.hits == 0:
-                return sol, point
-            fallback = fallback or (sol, point)
-        return fallback
+            for cand in ordered
+        ]
+        # Every point's clear descent is looked for before any point's contacts are counted:
+        # counting them is most of a search, and only the fallback needs them.
+        for max_hits in (0, math.inf):
+            for point, rotations in points:
+                sol = self.hand.planner.plan(
+                    point,
+                    np.array([0.0, 0.0, PRE_GRASP]),
+                    rotations,
+                    ignore,
+                    GRIPPER_OPEN,
+                    np.asarray(TOP_DOWN_SEED),
+                    line=GRASP_DESCENT,
+                    turn_room=GRASP_TURN_ROOM,
+                    max_hits=max_hits,
+                )
+                if sol is not None:
+                    return sol, point
+        return None
 
     def on_section(self, obj: str, point: FloatArray, rotation: FloatArray) -> FloatArray:
         """``point`` moved across (along the hand's closing axis, ``rotation``'s y) to the

@@ -53,14 +53,23 @@ class Descents:
         """The way down to the release, or, where it is not clear (the hand, 0.2 m long,
         meets a wall or what lies there already) and the object may drop in, to just above
         the rim, whichever touches less (the rim's search looks only for ways that do)."""
+        rim = drop.release.copy()
+        rim[2] = drop.above[2] - 0.03
+        at_rim = Drop(drop.held, drop.dest, rim, drop.above, drop.heading, drop.ignore)
+        # A clear way to the release, else a clear one to the rim, is what the full searches
+        # below would return; those count every contact, and a release deep in a basket
+        # often has no clear way, so the clear ways are looked for first.
+        if (clear := self._top_down_to(episode, drop, drop.release, 0)) is not None:
+            return clear, drop
+        drops_in = can_drop_into(self.hand, episode, drop.held, drop.dest)
+        if drops_in and (clear := self._top_down_to(episode, drop, rim, 0)) is not None:
+            return clear, at_rim
         sol = self._top_down_to(episode, drop, drop.release)
-        if (sol is None or sol.hits) and can_drop_into(self.hand, episode, drop.held, drop.dest):
-            rim = drop.release.copy()
-            rim[2] = drop.above[2] - 0.03
+        if drops_in:
             fewer = math.inf if sol is None else sol.hits - 1
             high = self._top_down_to(episode, drop, rim, fewer)
             if high is not None:
-                return high, Drop(drop.held, drop.dest, rim, drop.above, drop.heading, drop.ignore)
+                return high, at_rim
         return None if sol is None else (sol, drop)
 
     def _top_down_to(
@@ -87,9 +96,15 @@ class Descents:
         if level and (down := self.level_descent(drop, base, now)) is not None:
             return down
         down = self.plan_top_down(
-            drop.release, drop.above - drop.release, drop.heading, drop.ignore, now, [base]
+            drop.release,
+            drop.above - drop.release,
+            drop.heading,
+            drop.ignore,
+            now,
+            [base],
+            max_hits=0,
         )
-        if down is None or down.hits or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
+        if down is None or np.max(np.abs(down.q_start - now)) >= GLIDE_TOL:
             return None
         return down
 

@@ -189,10 +189,10 @@ class Placer:
             now,
             [BaseMove.still()],
             PLACE_CLEARANCE,
+            max_hits=0,
         )
         if (
             keep is not None
-            and not keep.hits
             and (done := self._glide(drop, keep, sol.shift, seconds, level)) is not None
         ):
             return done

@@ -179,9 +179,8 @@ class Pusher:
         heading = math.atan2(path.direction[1], path.direction[0])
         rotations = [top_down_rotation(heading + k * math.pi / 2) for k in range(4)]
         ignore = self.hand.body_geoms(obj)
-        blocked: list[Reach] = []
 
-        def clear_ways() -> Iterator[Reach]:  # planned one UAV move at a time, as needed
+        def ways(clear: bool) -> Iterator[Reach]:  # planned one UAV move at a time, as needed
             for shift in self._assists(start, end):
                 sol = self.hand.planner.plan(
                     start,
@@ -192,15 +191,16 @@ class Pusher:
                     np.asarray(TOP_DOWN_SEED),
                     assist=(shift,),
                     line=DESCENT,
+                    max_hits=0 if clear else math.inf,
                 )
-                if sol is not None and sol.hits:
-                    blocked.append(sol)
-                elif sol is not None:
+                if sol is not None and (clear or sol.hits):
                     yield sol
 
         carried: PushPlan | None = None
-        for ways in (clear_ways(), blocked):  # ``blocked`` is complete once the first is done
-            for sol in ways:
+        # The clear ways first; the blocked ones (each the best of its UAV move) only where
+        # none of those gives a push: counting their contacts is most of the search.
+        for ways_in in (ways(clear=True), ways(clear=False)):
+            for sol in ways_in:
                 plan, stroke = self._stroke_plan(sol, start, end, ignore)
                 if plan is not None:
                     return plan
