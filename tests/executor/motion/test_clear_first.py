@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.executor.motion.test_arm_planner_pruning import _same
 from vlm_bench.catalog.world_catalog import object_kind
 from vlm_bench.episodes import get_episode
 from vlm_bench.executor.live_episode import execute_plan
@@ -106,16 +107,6 @@ def _push_in_full(pusher: Pusher, obj: str, path: PushPath) -> PushPlan | None:
         if carried is not None:
             return carried
     return None
-
-
-def _same(a: Reach | None, b: Reach | None) -> bool:
-    if a is None or b is None:
-        return a is b
-    return (
-        a.hits == b.hits
-        and a.shift.key() == b.shift.key()
-        and all(np.array_equal(x, y) for x, y in zip(a[:2] + a[3:4], b[:2] + b[3:4], strict=True))
-    )
 
 
 def _same_push(a: PushPlan | None, b: PushPlan | None) -> bool:
