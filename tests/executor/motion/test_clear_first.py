@@ -97,7 +97,7 @@ def _push_in_full(pusher: Pusher, obj: str, path: PushPath) -> PushPlan | None:
     carried = None
     for ways in (
         [s for s in sols if s is not None and not s.hits],
-        [s for s in sols if s and s.hits],
+        [s for s in sols if s is not None and s.hits],
     ):
         for sol in ways:
             plan, stroke = pusher._stroke_plan(sol, start, end, ignore)
